@@ -1,0 +1,51 @@
+// Local-search solvers for the float CSP (paper section 4), all seeded and reproducible.
+//
+// Pure, thread-safe (each call owns its RNG). The grid is modified in place.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "algorithms/knit/floats.h"
+
+namespace atelier::knit {
+
+enum class Solver {
+  none,          // keep the starting assignment
+  random_walk,   // 4.1: random variables, flip if it repairs >= m; stop when < q of n conflict
+  min_conflict,  // 4.2: flip-averse Min-Conflict, runs to a complete solution
+  gsat,          // 4.3: best flip first, row-local re-ranking, minimal flips
+  hybrid,        // 4.4: Random Walk (n, q, m) then GSAT
+  texturing,     // 4.5: break each long run at a random shift, every f stitches
+};
+
+// "none", "random-walk", "min-conflict", "gsat", "hybrid", "texturing".
+Solver solver_from_name(const std::string& name);  // throws std::invalid_argument
+std::string solver_name(Solver s);
+// True for the solvers that always end with zero violations.
+bool solver_is_complete(Solver s);
+
+struct SolverParams {
+  Solver solver = Solver::hybrid;
+  uint64_t seed = 1;
+  int rw_n = 100;   // Random Walk: variables checked per round
+  int rw_q = 5;     // Random Walk: stop when fewer than q of the n are conflicting
+  int rw_m = 4;     // Random Walk: flip only when violations drop by at least m
+  // Called now and then with a fraction in [0, 1]; may be empty. Not called concurrently.
+  std::function<void(double)> progress;
+};
+
+struct SolveStats {
+  long violations_before = 0;
+  long violations_after = 0;
+  long flips = 0;             // total stitches flipped
+  long random_walk_flips = 0; // of which by the Random Walk phase (random_walk, hybrid)
+  long search_flips = 0;      // of which by GSAT / Min-Conflict / texturing
+  bool complete = false;      // violations_after == 0
+};
+
+SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& params);
+
+}  // namespace atelier::knit

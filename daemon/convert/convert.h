@@ -1,0 +1,55 @@
+// One job's conversion, as shared by atelierd (which runs it in an `atelier-convert`
+// child process) and the atelier-convert tool: input file + parameters -> output folder.
+//
+// Not thread-safe per request; separate requests may run concurrently.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <toml++/toml.h>
+#include <vector>
+
+#include "daemon/convert/image_input.h"
+
+namespace atelier {
+
+// A conversion failed because of its input or parameters. what() is the user-facing reason
+// and names the file ("cat.png: not a PNG or JPEG image ...").
+class ConvertError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The kinds this build can convert (e.g. {"knit"}). Folder names under incoming/.
+const std::vector<std::string>& known_kinds();
+bool is_known_kind(const std::string& kind);
+
+// Validates a kind's parameter table strictly (unknown keys, wrong types, out of range);
+// throws ParamError naming file, line and key. `source` names the file for messages.
+void validate_kind_params(const std::string& kind, const toml::table& params,
+                          const std::string& source);
+
+struct ConvertRequest {
+  std::string kind;
+  std::filesystem::path input;        // the image (or job file); read only
+  toml::table params;                 // merged: config section, sidecar, --set
+  std::string params_source = "parameters";  // for error messages
+  std::filesystem::path output_dir;   // created if missing; outputs are written here
+  ImageLimits limits;
+  // Fraction done in [0, 1]; may be empty. Called from the converting thread.
+  std::function<void(double)> progress;
+};
+
+struct ConvertResult {
+  nlohmann::json report;              // as written to report.json
+  std::vector<std::string> outputs;   // file names written into output_dir
+};
+
+// Runs the conversion and writes every output of the kind plus report.json.
+// Throws ConvertError (bad input), ParamError (bad parameters).
+ConvertResult convert(const ConvertRequest& request);
+
+}  // namespace atelier
