@@ -1,0 +1,261 @@
+// atelierctl: command-line client of atelierd's control socket (docs/control-protocol.md).
+// Exit codes: 0 ok, 1 the request failed (message on stderr), 2 usage, 3 daemon not reachable.
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "tools/ctl_client.h"
+#include "tools/ctl_format.h"
+
+namespace {
+
+using atelier::ctl::ControlClient;
+using nlohmann::json;
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailed = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitUnreachable = 3;
+
+// What the parsed command line asks for: one request and how to show its result.
+struct Command {
+  std::string verb;
+  json args = json::object();
+  bool json_output = false;
+  std::function<std::string(const json&)> render = atelier::ctl::format_value;
+};
+
+const CLI::Validator kKeyValue(
+    [](std::string& s) -> std::string {
+      auto eq = s.find('=');
+      if (eq == std::string::npos || eq == 0) return "expected key=value, got '" + s + "'";
+      return "";
+    },
+    "KEY=VALUE");
+
+// Job ids and row numbers: plain decimal integers (CLI11's number checks print float ranges).
+CLI::Validator integer_at_least(std::int64_t minimum) {
+  return CLI::Validator(
+      [minimum](std::string& s) -> std::string {
+        std::int64_t value = 0;
+        bool digits = !s.empty() && s.size() <= 18 &&
+                      s.find_first_not_of("0123456789") == std::string::npos;
+        if (digits) value = std::stoll(s);
+        if (!digits || value < minimum) {
+          return "expected an integer >= " + std::to_string(minimum) + ", got '" + s + "'";
+        }
+        return "";
+      },
+      "INT");
+}
+
+std::string render_job_or_value(const json& result) {
+  if (result.is_object() && result.contains("id") && result.contains("state")) {
+    return atelier::ctl::format_job_line(result);
+  }
+  return atelier::ctl::format_value(result);
+}
+
+std::string absolute_path(const std::string& file) {
+  // The daemon resolves nothing against our working directory: send where the file really is.
+  return std::filesystem::canonical(file).string();
+}
+
+void print_unreachable(const atelier::ctl::UnreachableError& e) {
+  std::string hint = (e.error_number() == EACCES || e.error_number() == EPERM)
+                         ? "is your user in the daemon's control group (atelier)?"
+                         : "is atelierd running?";
+  std::cerr << "atelierctl: " << e.what() << " (" << hint << ")\n";
+}
+
+int print_failure(const json& response) {
+  std::string message = "the daemon rejected the request without a reason";
+  if (response.contains("error") && response["error"].is_string()) {
+    message = response["error"].get<std::string>();
+  }
+  std::cerr << "atelierctl: " << message << "\n";
+  return kExitFailed;
+}
+
+bool response_ok(const json& response) {
+  return response.contains("ok") && response["ok"].is_boolean() && response["ok"].get<bool>();
+}
+
+// Follows state changes until interrupted (exit 0) or the daemon goes away (exit 3).
+int run_watch(ControlClient& client) {
+  client.send(json{{"verb", "watch"}, {"args", json::object()}});
+  auto first = client.receive(ControlClient::kDefaultTimeout);
+  if (!first) {
+    throw atelier::ctl::UnreachableError(
+        "the daemon at " + client.socket_path() + " closed the connection without answering", 0);
+  }
+  if (!response_ok(*first)) return print_failure(*first);
+  // Ctrl-C is how a watch ends: leave quietly with success (every line is already flushed).
+  struct sigaction quit {};
+  quit.sa_handler = [](int) { _exit(kExitOk); };
+  sigemptyset(&quit.sa_mask);
+  sigaction(SIGINT, &quit, nullptr);
+  sigaction(SIGTERM, &quit, nullptr);
+  for (;;) {
+    auto message = client.receive(std::nullopt);
+    if (!message) {
+      throw atelier::ctl::UnreachableError(
+          "the daemon at " + client.socket_path() + " closed the connection", 0);
+    }
+    if (message->contains("event")) {
+      std::cout << atelier::ctl::format_event((*message)["event"]) << std::flush;
+    } else if (message->contains("ok") && !response_ok(*message)) {
+      return print_failure(*message);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"atelierctl: control atelierd, the workshop fabrication daemon"};
+  app.require_subcommand(1);
+  app.fallthrough();  // --socket may also follow the verb
+  std::string socket = atelier::ctl::default_socket_path();
+  app.add_option("--socket", socket,
+                 "control socket (default: $ATELIER_SOCKET, else /run/atelier/control.sock)")
+      ->type_name("PATH");
+
+  Command cmd;
+  std::int64_t id = 0;
+  std::int64_t from_row = 0;
+  std::string state, kind, file, wood_id;
+  std::vector<std::string> sets;
+
+  auto add_id = [&](CLI::App* sub) {
+    sub->add_option("ID", id, "job id")->required()->check(integer_at_least(1));
+  };
+  auto add_json = [&](CLI::App* sub) {
+    sub->add_flag("--json", cmd.json_output, "print the daemon's result as JSON");
+  };
+  auto add_sets = [&](CLI::App* sub) {
+    sub->add_option("--set", sets, "parameter override (repeatable)")
+        ->type_name("KEY=VALUE")
+        ->allow_extra_args(false)
+        ->check(kKeyValue);
+  };
+
+  auto* status = app.add_subcommand("status", "daemon, devices, queue counts");
+  auto* list = app.add_subcommand("list", "jobs, newest first");
+  list->add_option("--state", state, "only jobs in this state");
+  list->add_option("--kind", kind, "only jobs of this kind");
+  add_json(list);
+  auto* show = app.add_subcommand("show", "one job, its outputs and history");
+  add_id(show);
+  add_json(show);
+  auto* submit = app.add_subcommand("submit", "queue a file as a job (same path as the hot folder)");
+  submit->add_option("FILE", file, "input file")->required()->check(CLI::ExistingFile);
+  submit->add_option("--kind", kind, "job kind (knit, lace, embroidery, ...)")->required();
+  add_sets(submit);
+  auto* start = app.add_subcommand("start", "arm a ready job (laser)");
+  add_id(start);
+  auto* cancel = app.add_subcommand("cancel", "cancel a job");
+  add_id(cancel);
+  auto* retry = app.add_subcommand("retry", "re-queue a failed, interrupted or canceled job");
+  add_id(retry);
+  auto* resume = app.add_subcommand("resume", "knitting: continue a job from a row");
+  add_id(resume);
+  resume->add_option("--from-row", from_row, "row to continue from")
+      ->required()
+      ->check(integer_at_least(0));
+  auto* devices = app.add_subcommand("devices", "name, driver, port, state, current job");
+  add_json(devices);
+  auto* watch = app.add_subcommand("watch", "follow state changes live");
+  auto* frame = app.add_subcommand("frame", "laser: trace the job's bounding box, beam off");
+  add_id(frame);
+  auto* wood = app.add_subcommand("wood", "the workshop's veneer stock (parquetry)");
+  wood->require_subcommand(1);
+  auto* wood_list = wood->add_subcommand("list", "veneer sheets in stock");
+  add_json(wood_list);
+  auto* wood_add = wood->add_subcommand("add", "add a scanned veneer sheet");
+  wood_add->add_option("FILE", file, "scan of the sheet")->required()->check(CLI::ExistingFile);
+  add_sets(wood_add);
+  auto* wood_remove = wood->add_subcommand("remove", "remove a sheet from the stock");
+  wood_remove->add_option("WOOD_ID", wood_id, "sheet id")->required();
+  auto* wood_reset = wood->add_subcommand("reset", "forget all sheets");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);  // prints help (rc 0) or the error with a usage hint
+    return rc == 0 ? kExitOk : kExitUsage;
+  }
+
+  try {
+    if (status->parsed()) {
+      cmd.verb = "status";
+      cmd.render = atelier::ctl::format_status;
+    } else if (list->parsed()) {
+      cmd.verb = "list";
+      if (!state.empty()) cmd.args["state"] = state;
+      if (!kind.empty()) cmd.args["kind"] = kind;
+      cmd.render = atelier::ctl::format_job_table;
+    } else if (show->parsed()) {
+      cmd = Command{"show", {{"id", id}}, cmd.json_output, atelier::ctl::format_job_details};
+    } else if (submit->parsed()) {
+      cmd = Command{"submit", {{"path", absolute_path(file)}, {"kind", kind}, {"set", sets}},
+                    false, render_job_or_value};
+    } else if (start->parsed() || cancel->parsed() || retry->parsed() || frame->parsed()) {
+      std::string verb = start->parsed()    ? "start"
+                         : cancel->parsed() ? "cancel"
+                         : retry->parsed()  ? "retry"
+                                            : "frame";
+      cmd = Command{verb, {{"id", id}}, false, render_job_or_value};
+    } else if (resume->parsed()) {
+      cmd = Command{"resume", {{"id", id}, {"from_row", from_row}}, false, render_job_or_value};
+    } else if (devices->parsed()) {
+      cmd.verb = "devices";
+      cmd.render = atelier::ctl::format_devices;
+    } else if (wood->parsed()) {
+      cmd.verb = "wood";
+      if (wood_list->parsed()) {
+        cmd.args = {{"action", "list"}};
+      } else if (wood_add->parsed()) {
+        cmd.args = {{"action", "add"}, {"path", absolute_path(file)}, {"set", sets}};
+      } else if (wood_remove->parsed()) {
+        cmd.args = {{"action", "remove"}, {"id", wood_id}};
+      } else if (wood_reset->parsed()) {
+        cmd.args = {{"action", "reset"}};
+      }
+    }
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "atelierctl: cannot resolve " << file << ": " << e.code().message() << "\n";
+    return kExitUsage;
+  }
+
+  try {
+    ControlClient client(socket);
+    if (watch->parsed()) return run_watch(client);
+    json response = client.request(cmd.verb, cmd.args);
+    if (!response_ok(response)) return print_failure(response);
+    const json result = response.contains("result") ? response["result"] : json();
+    if (cmd.json_output) {
+      std::cout << result.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+    } else {
+      std::cout << cmd.render(result);
+    }
+    return kExitOk;
+  } catch (const atelier::ctl::UnreachableError& e) {
+    print_unreachable(e);
+    return kExitUnreachable;
+  } catch (const atelier::ctl::ProtocolError& e) {
+    std::cerr << "atelierctl: " << e.what() << "\n";
+    return kExitFailed;
+  }
+}
