@@ -1,0 +1,55 @@
+#include "daemon/convert/convert.h"
+
+#include <algorithm>
+
+#include "daemon/convert/knit_job.h"
+#include "daemon/convert/knit_params.h"
+#include "daemon/convert/param_table.h"
+
+namespace atelier {
+namespace {
+
+std::string kind_list() {
+  std::string list;
+  for (const auto& k : known_kinds()) list += (list.empty() ? "" : ", ") + k;
+  return list;
+}
+
+}  // namespace
+
+const std::vector<std::string>& known_kinds() {
+  static const std::vector<std::string> kinds{"knit"};
+  return kinds;
+}
+
+bool is_known_kind(const std::string& kind) {
+  const auto& kinds = known_kinds();
+  return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+}
+
+void validate_kind_params(const std::string& kind, const toml::table& params,
+                          const std::string& source) {
+  if (kind == "knit") {
+    read_knit_params(params, source);
+    return;
+  }
+  throw ParamError(source + ": unknown kind '" + kind + "' (known: " + kind_list() + ")");
+}
+
+ConvertResult convert(const ConvertRequest& request) {
+  if (!is_known_kind(request.kind)) {
+    throw ConvertError(request.input.filename().string() + ": unknown kind '" + request.kind +
+                       "' (known: " + kind_list() + ")");
+  }
+  // OpenCV reports bad data (and its own limits) by exception; the user sees the file name.
+  try {
+    return convert_knit(request);
+  } catch (const cv::Exception& e) {
+    throw ConvertError(request.input.filename().string() + ": image processing failed: " +
+                       e.err);
+  } catch (const std::invalid_argument& e) {
+    throw ConvertError(request.input.filename().string() + ": " + e.what());
+  }
+}
+
+}  // namespace atelier

@@ -1,0 +1,164 @@
+#include "daemon/convert/knit_chart.h"
+
+#include <cairo-pdf.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <memory>
+#include <stdexcept>
+
+namespace atelier {
+namespace {
+
+constexpr double kMm = 72.0 / 25.4;  // points per millimetre
+constexpr double kPageW = 210 * kMm, kPageH = 297 * kMm;
+constexpr double kMargin = 12 * kMm;
+constexpr double kCell = 4.5 * kMm;
+constexpr double kGutter = 9 * kMm;   // row numbers left and right of the grid
+constexpr double kHeader = 27 * kMm;  // title, details, page range, colour key
+constexpr double kFooter = 7 * kMm;   // stitch numbers under the grid
+
+constexpr int kColsPerPage = static_cast<int>((kPageW - 2 * kMargin - 2 * kGutter) / kCell);
+constexpr int kRowsPerPage =
+    static_cast<int>((kPageH - 2 * kMargin - kHeader - kFooter) / kCell);
+
+struct Tile {
+  int row0, row1;      // pattern rows, 1 = bottom, inclusive
+  int stitch0, stitch1;  // stitches counted from the right, inclusive
+};
+
+void set_rgb(cairo_t* cr, const Rgb& c) {
+  cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0);
+}
+
+void text(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold,
+          double align = 0.0) {  // align: 0 left, 0.5 centre, 1 right of x
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t ext;
+  cairo_text_extents(cr, s.c_str(), &ext);
+  cairo_move_to(cr, x - align * ext.x_advance, y);
+  cairo_show_text(cr, s.c_str());
+}
+
+void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Tile& t,
+               int page, int pages) {
+  const int rows = grid.rows, width = grid.cols;
+  const int ncols = t.stitch1 - t.stitch0 + 1, nrows = t.row1 - t.row0 + 1;
+
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  double y = kMargin + 5 * kMm;
+  text(cr, kMargin, y, info.title + " - Fair Isle chart", 13, true);
+  y += 5.5 * kMm;
+  text(cr, kMargin, y,
+       std::to_string(width) + " stitches x " + std::to_string(rows) + " rows   max float " +
+           std::to_string(info.max_float) + "   solver " + info.solver,
+       9, false);
+  y += 4.5 * kMm;
+  text(cr, kMargin, y,
+       "Page " + std::to_string(page) + " of " + std::to_string(pages) + ": rows " +
+           std::to_string(t.row0) + "-" + std::to_string(t.row1) + ", stitches " +
+           std::to_string(t.stitch0) + "-" + std::to_string(t.stitch1) +
+           "   (row 1 = bottom, knitted first; stitches counted from the right)",
+       8, false);
+  y += 3 * kMm;
+  // Colour key.
+  const char* labels[2] = {"background yarn (carrier 1)", "contrast yarn (carrier 2)"};
+  double x = kMargin;
+  for (int i = 0; i < 2; ++i) {
+    cairo_rectangle(cr, x, y, 4 * kMm, 4 * kMm);
+    set_rgb(cr, info.colors[i]);
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 0.5);
+    cairo_stroke(cr);
+    text(cr, x + 5.5 * kMm, y + 3.2 * kMm, std::string(labels[i]) + " " + info.color_names[i],
+         8, false);
+    x += 80 * kMm;
+  }
+
+  // Grid: top-left corner; the top row of the tile is row1, the leftmost column stitch1.
+  const double gx = kMargin + kGutter, gy = kMargin + kHeader;
+  for (int r = 0; r < nrows; ++r) {
+    int n = t.row1 - r;                            // pattern row
+    const unsigned char* line = grid.ptr<unsigned char>(rows - n);
+    for (int k = 0; k < ncols; ++k) {
+      int s = t.stitch1 - k;                       // stitch from the right
+      set_rgb(cr, info.colors[line[width - s] ? 1 : 0]);
+      cairo_rectangle(cr, gx + k * kCell, gy + r * kCell, kCell, kCell);
+      cairo_fill(cr);
+    }
+  }
+  cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+  for (int k = 0; k <= ncols; ++k) {  // vertical line left of column k
+    int s = t.stitch1 - k;  // the stitch right of this line
+    bool bold = s % 10 == 0 && s > 0;
+    cairo_set_line_width(cr, bold ? 1.2 : 0.3);
+    cairo_move_to(cr, gx + k * kCell, gy);
+    cairo_line_to(cr, gx + k * kCell, gy + nrows * kCell);
+    cairo_stroke(cr);
+  }
+  for (int r = 0; r <= nrows; ++r) {  // horizontal line below tile row r-1
+    int below = t.row1 - r;           // the line separates rows below and below+1
+    bool bold = below % 10 == 0 && below > 0;
+    cairo_set_line_width(cr, bold ? 1.2 : 0.3);
+    cairo_move_to(cr, gx, gy + r * kCell);
+    cairo_line_to(cr, gx + ncols * kCell, gy + r * kCell);
+    cairo_stroke(cr);
+  }
+
+  // Row numbers: odd (right-side) rows on the right, even (wrong-side) rows on the left.
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  for (int r = 0; r < nrows; ++r) {
+    int n = t.row1 - r;
+    double cy = gy + r * kCell + kCell * 0.7;
+    bool bold = n % 10 == 0;
+    if (n % 2 == 1) text(cr, gx + ncols * kCell + 1.5 * kMm, cy, std::to_string(n), 6.5, bold);
+    else text(cr, gx - 1.5 * kMm, cy, std::to_string(n), 6.5, bold, 1.0);
+  }
+  // Stitch numbers: the first of the page and every 5th.
+  for (int k = 0; k < ncols; ++k) {
+    int s = t.stitch1 - k;
+    if (s % 5 != 0 && s != t.stitch0) continue;
+    text(cr, gx + (k + 0.5) * kCell, gy + nrows * kCell + 4 * kMm, std::to_string(s), 6,
+         s % 10 == 0, 0.5);
+  }
+}
+
+}  // namespace
+
+int write_chart_pdf(const cv::Mat& grid, const ChartInfo& info,
+                    const std::filesystem::path& pdf) {
+  CV_Assert(grid.type() == CV_8UC1 && !grid.empty());
+  std::vector<Tile> tiles;
+  for (int r0 = 1; r0 <= grid.rows; r0 += kRowsPerPage)
+    for (int s0 = 1; s0 <= grid.cols; s0 += kColsPerPage)
+      tiles.push_back(Tile{r0, std::min(grid.rows, r0 + kRowsPerPage - 1), s0,
+                           std::min(grid.cols, s0 + kColsPerPage - 1)});
+
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
+      cairo_pdf_surface_create(pdf.c_str(), kPageW, kPageH), cairo_surface_destroy);
+  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(cairo_status_to_string(cairo_surface_status(surface.get())));
+  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_TITLE,
+                                 (info.title + " - Fair Isle chart").c_str());
+  cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "atelier");
+  {
+    std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()),
+                                                          cairo_destroy);
+    for (size_t i = 0; i < tiles.size(); ++i) {
+      draw_page(cr.get(), grid, info, tiles[i], static_cast<int>(i) + 1,
+                static_cast<int>(tiles.size()));
+      cairo_show_page(cr.get());
+    }
+    if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS)
+      throw std::runtime_error(cairo_status_to_string(cairo_status(cr.get())));
+  }
+  cairo_surface_finish(surface.get());
+  if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(cairo_status_to_string(cairo_surface_status(surface.get())));
+  return static_cast<int>(tiles.size());
+}
+
+}  // namespace atelier

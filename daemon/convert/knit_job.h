@@ -1,0 +1,16 @@
+// The `knit` conversion: image -> stitch grid -> dithered start -> float solver -> outputs.
+//
+// Writes into request.output_dir: pattern.png (1 px per stitch, black = contrast),
+// preview.png (stitch-shaped render in the configured yarn colours), chart.pdf (see
+// knit_chart.h), pattern.k (see knit_knitout.h) and report.json (parameters, metrics, timings).
+// Not thread-safe per request; separate requests may run concurrently.
+#pragma once
+
+#include "daemon/convert/convert.h"
+
+namespace atelier {
+
+// Throws ConvertError (input, relax mask, output files) and ParamError (parameters).
+ConvertResult convert_knit(const ConvertRequest& request);
+
+}  // namespace atelier
