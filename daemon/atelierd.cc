@@ -1,0 +1,39 @@
+// atelierd: the workshop fabrication daemon. See README.md and DESIGN.md.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "daemon/convert/param_table.h"
+#include "daemon/core/config.h"
+#include "daemon/core/daemon.h"
+#include "daemon/core/log.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"atelierd: turns images dropped into a hot folder into fabrication data"};
+  std::string config_file = "/etc/atelier/atelierd.toml";
+  bool verbose = false;
+  bool check = false;
+  app.add_option("-c,--config", config_file, "configuration file")->capture_default_str();
+  app.add_flag("-v,--verbose", verbose, "log debug messages");
+  app.add_flag("--check-config", check, "validate the configuration and exit");
+  app.set_version_flag("--version", ATELIER_VERSION);
+  CLI11_PARSE(app, argc, argv);
+  atelier::log::set_verbose(verbose);
+  atelier::Config config;
+  try {
+    config = atelier::load_config(config_file);
+  } catch (const std::exception& e) {
+    atelier::log::error(std::string("configuration error: ") + e.what());
+    return 1;
+  }
+  if (check) {
+    std::cout << config_file << ": ok\n";
+    return 0;
+  }
+  try {
+    atelier::Daemon daemon(config_file, std::move(config));
+    return daemon.run();
+  } catch (const std::exception& e) {
+    atelier::log::error(std::string("cannot start: ") + e.what());
+    return 1;
+  }
+}

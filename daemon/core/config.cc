@@ -1,0 +1,128 @@
+#include "daemon/core/config.h"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "daemon/convert/convert.h"
+#include "daemon/convert/param_table.h"
+
+namespace atelier {
+namespace {
+
+// Drivers this build can run. The ayab, grbl and file-drop drivers arrive with their issues;
+// until then a [[device]] naming them is refused rather than silently ignored.
+const std::vector<std::string> kAvailableDrivers = {};
+
+DeviceConfig read_device(const toml::table& t, const std::string& source, size_t index) {
+  TableReader r(t, source, "device[" + std::to_string(index) + "]");
+  DeviceConfig d;
+  d.name = r.get_string("name", "");
+  if (d.name.empty()) r.fail("name", "every [[device]] needs a name");
+  d.driver = r.get_choice("driver", "", {"ayab", "grbl", "file-drop"});
+  d.port = r.get_string("port", "");
+  d.usb = r.get_string("usb", "");
+  d.machine = r.get_string("machine", "");
+  d.kinds = r.get_string_list("kinds", {});
+  d.autostart = r.get_bool("autostart", false);
+  d.dir = r.get_string("dir", "");
+  d.formats = r.get_string_list("formats", {});
+  r.finish();
+  for (const auto& k : d.kinds)
+    if (!is_known_kind(k)) r.fail("kinds", "unknown kind '" + k + "'");
+  bool available = false;
+  for (const auto& a : kAvailableDrivers) available = available || a == d.driver;
+  if (!available) {
+    r.fail("driver", "driver '" + d.driver + "' of device '" + d.name +
+                         "' is not available in this build of atelierd");
+  }
+  return d;
+}
+
+Config from_table(const toml::table& root, const std::string& source) {
+  Config c;
+  c.source = source;
+  TableReader top(root, source, "");
+
+  const toml::table* spool = top.get_table("spool");
+  if (!spool) throw ParamError(source + ": missing section [spool] (its key 'dir' is required)");
+  {
+    TableReader r(*spool, source, "spool");
+    if (!r.has("dir")) throw ParamError(where(*spool, source) + "key 'spool.dir' is required");
+    c.spool_dir = r.get_string("dir", "");
+    if (c.spool_dir.empty()) r.fail("dir", "must not be empty");
+    c.watch = r.get_choice("watch", "inotify", {"inotify", "poll"}) == "poll" ? WatchMode::poll
+                                                                               : WatchMode::inotify;
+    c.settle_ms = static_cast<int>(r.get_int("settle_ms", 500, 50, 600000));
+    r.finish();
+  }
+  if (const toml::table* store = top.get_table("store")) {
+    TableReader r(*store, source, "store");
+    c.store_path = r.get_string("path", c.store_path.string());
+    r.finish();
+  }
+  if (const toml::table* control = top.get_table("control")) {
+    TableReader r(*control, source, "control");
+    c.socket_path = r.get_string("socket", c.socket_path.string());
+    c.socket_group = r.get_string("group", c.socket_group);
+    r.finish();
+  }
+  if (const toml::table* limits = top.get_table("limits")) {
+    TableReader r(*limits, source, "limits");
+    c.limits.max_file_bytes = static_cast<uint64_t>(
+        r.get_int("max_file_bytes", static_cast<int64_t>(c.limits.max_file_bytes), 1, INT64_MAX));
+    c.limits.max_pixels = static_cast<uint64_t>(
+        r.get_int("max_pixels", static_cast<int64_t>(c.limits.max_pixels), 1, INT64_MAX));
+    c.job_timeout_s = static_cast<int>(r.get_int("job_timeout_s", 600, 1, 86400 * 7));
+    c.workers = static_cast<int>(r.get_int("workers", 2, 1, 64));
+    r.finish();
+  }
+  for (const auto& kind : known_kinds()) {
+    toml::table params;
+    if (const toml::table* t = top.get_table(kind)) params = *t;
+    validate_kind_params(kind, params, source);
+    c.kind_defaults[kind] = params;
+  }
+  if (const toml::array* devices = top.get_array("device")) {
+    size_t i = 0;
+    std::set<std::string> names;
+    for (const auto& el : *devices) {
+      const toml::table* t = el.as_table();
+      if (!t) throw ParamError(where(el, source) + "[[device]] entries must be tables");
+      DeviceConfig d = read_device(*t, source, i++);
+      if (!names.insert(d.name).second)
+        throw ParamError(where(*t, source) + "two devices are named '" + d.name + "'");
+      c.devices.push_back(std::move(d));
+    }
+  }
+  top.finish();
+  // Relative paths are resolved against the config file's folder, not the daemon's cwd.
+  const auto base = std::filesystem::path(source).parent_path();
+  for (auto* p : {&c.spool_dir, &c.store_path, &c.socket_path})
+    if (p->is_relative()) *p = base / *p;
+  return c;
+}
+
+}  // namespace
+
+Config parse_config(const std::string& text, const std::string& source) {
+  try {
+    toml::table root = toml::parse(text, std::string_view{source});
+    return from_table(root, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << source << ":" << e.source().begin.line << ": " << e.description();
+    throw ParamError(msg.str());
+  }
+}
+
+Config load_config(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ParamError(file.string() + ": cannot read the configuration file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  Config c = parse_config(buf.str(), file.string());
+  return c;
+}
+
+}  // namespace atelier

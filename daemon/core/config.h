@@ -1,0 +1,63 @@
+// atelierd's configuration (TOML, read with toml++), strict: a missing required key, a
+// mistyped value or an unknown key is an error naming the file, the line and the key.
+// Only `[spool] dir` is required; every other key has the default documented here and in
+// config/atelierd.toml. Immutable once loaded; SIGHUP loads a new one.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <toml++/toml.h>
+#include <vector>
+
+#include "daemon/convert/image_input.h"
+
+namespace atelier {
+
+enum class WatchMode { inotify, poll };
+
+struct DeviceConfig {
+  std::string name;
+  std::string driver;                // "ayab", "grbl", "file-drop"
+  std::string port;                  // serial device path, or ""
+  std::string usb;                   // "vvvv:pppp[:serial]", or ""
+  std::string machine;               // e.g. "kh930"
+  std::vector<std::string> kinds;    // job kinds this device takes
+  bool autostart = false;            // a ready job starts without `atelierctl start`
+  std::string dir;                   // file-drop: target folder
+  std::vector<std::string> formats;  // file-drop: file formats
+};
+
+struct Config {
+  std::filesystem::path source;      // the file this was read from
+
+  // [spool]
+  std::filesystem::path spool_dir;   // required
+  WatchMode watch = WatchMode::inotify;
+  int settle_ms = 500;               // poll mode: size unchanged this long = complete
+
+  // [store]
+  std::filesystem::path store_path = "/var/lib/atelier/jobs.sqlite";
+
+  // [control]
+  std::filesystem::path socket_path = "/run/atelier/control.sock";
+  std::string socket_group = "atelier";  // socket is 0660 for this group (if it exists)
+
+  // [limits]
+  ImageLimits limits;                // max_file_bytes, max_pixels
+  int job_timeout_s = 600;           // a conversion running longer is killed and fails
+  int workers = 2;                   // conversions at once
+
+  // [knit] ... : each kind's default parameters, validated, merged under each job's own.
+  std::map<std::string, toml::table> kind_defaults;
+
+  std::vector<DeviceConfig> devices;  // [[device]]
+};
+
+// Reads and validates `file`. Throws ParamError ("FILE:LINE: key 'x': problem").
+Config load_config(const std::filesystem::path& file);
+
+// Same from TOML text (tests); `source` names it in errors.
+Config parse_config(const std::string& text, const std::string& source);
+
+}  // namespace atelier

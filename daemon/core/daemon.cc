@@ -1,0 +1,299 @@
+#include "daemon/core/daemon.h"
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <systemd/sd-daemon.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <sstream>
+
+#include "daemon/convert/convert.h"
+#include "daemon/convert/param_table.h"
+#include "daemon/core/job_json.h"
+#include "daemon/core/log.h"
+
+namespace fs = std::filesystem;
+
+namespace atelier {
+namespace {
+
+int64_t job_id_arg(const nlohmann::json& args) {
+  if (!args.contains("id") || !args["id"].is_number_integer())
+    throw ControlError("this request needs an integer job \"id\"");
+  return args["id"].get<int64_t>();
+}
+
+}  // namespace
+
+Daemon::Daemon(fs::path config_file, Config initial)
+    : config_file_(std::move(config_file)),
+      config_(std::make_shared<const Config>(std::move(initial))),
+      started_(std::chrono::steady_clock::now()) {
+  sigset_t mask;
+  sigemptyset(&mask);
+  for (int s : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&mask, s);
+  pthread_sigmask(SIG_BLOCK, &mask, nullptr);
+  signal_fd_ = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+  ::signal(SIGPIPE, SIG_IGN);
+
+  const Config& c = *config_;
+  store_ = std::make_unique<Store>(c.store_path);
+  SpoolLayout layout{c.spool_dir};
+  jobs_ = std::make_unique<JobService>(*store_, layout, [this](const JobChange& change) {
+    if (control_)
+      control_->publish({{"job", job_to_json(change.job)},
+                         {"from", change.from},
+                         {"to", change.to},
+                         {"reason", change.reason}});
+  });
+  jobs_->ensure_layout();
+  runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
+  scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
+  control_ = std::make_unique<ControlServer>(
+      c.socket_path, c.socket_group,
+      [this](const std::string& verb, const nlohmann::json& args) { return handle(verb, args); });
+}
+
+Daemon::~Daemon() {
+  if (signal_fd_ >= 0) ::close(signal_fd_);
+}
+
+std::shared_ptr<const Config> Daemon::config() const {
+  std::lock_guard lock(config_mu_);
+  return config_;
+}
+
+void Daemon::claim(const fs::path& entry) {
+  try {
+    if (auto id = jobs_->claim(entry)) {
+      auto job = store_->get(*id);
+      if (job && job->state == JobState::queued) {
+        log::info("job " + std::to_string(*id) + ": picked up " + entry.string());
+        scheduler_->enqueue(*id);
+      } else if (job) {
+        log::warning("job " + std::to_string(*id) + ": " + job->reason);
+      }
+    }
+  } catch (const std::exception& e) {
+    // The file stays where it is (or in work/, adopted at the next start): nothing is lost.
+    log::error(entry.string() + ": cannot pick up: " + e.what());
+  }
+}
+
+nlohmann::json Daemon::status() {
+  nlohmann::json queue = nlohmann::json::object();
+  for (const auto& [state, n] : store_->counts()) queue[state_name(state)] = n;
+  auto c = config();
+  auto uptime = std::chrono::duration_cast<std::chrono::seconds>(
+      std::chrono::steady_clock::now() - started_);
+  return {{"version", ATELIER_VERSION},
+          {"pid", getpid()},
+          {"uptime_s", uptime.count()},
+          {"spool", c->spool_dir.string()},
+          {"store", c->store_path.string()},
+          {"watch", c->watch == WatchMode::poll ? "poll" : "inotify"},
+          {"workers", c->workers},
+          {"kinds", known_kinds()},
+          {"queue", queue},
+          {"devices", nlohmann::json::array()}};
+}
+
+nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& args) {
+  if (verb == "status") return status();
+  if (verb == "list") {
+    JobFilter filter;
+    if (args.contains("state")) {
+      auto s = state_from_name(args["state"].get<std::string>());
+      if (!s) throw ControlError("unknown state '" + args["state"].get<std::string>() + "'");
+      filter.state = s;
+    }
+    if (args.contains("kind")) filter.kind = args["kind"].get<std::string>();
+    if (args.contains("limit")) filter.limit = args["limit"].get<int>();
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& job : store_->list(filter)) out.push_back(job_to_json(job));
+    return out;
+  }
+  if (verb == "show") {
+    const int64_t id = job_id_arg(args);
+    auto job = store_->get(id);
+    if (!job) throw ControlError("no job " + std::to_string(id));
+    nlohmann::json out = job_to_json(*job);
+    nlohmann::json outputs = nlohmann::json::array();
+    std::error_code ec;
+    if (!job->output_dir.empty()) {
+      std::vector<std::string> names;
+      for (const auto& e : fs::directory_iterator(job->output_dir, ec))
+        names.push_back(e.path().filename().string());
+      std::sort(names.begin(), names.end());
+      for (auto& n : names) outputs.push_back(n);
+    }
+    out["outputs"] = outputs;
+    out["history"] = events_to_json(store_->history(id));
+    return out;
+  }
+  if (verb == "submit") {
+    const std::string path = args.at("path").get<std::string>();
+    const std::string kind = args.at("kind").get<std::string>();
+    if (!fs::path(path).is_absolute()) throw ControlError("submit needs an absolute path");
+    if (!is_known_kind(kind)) {
+      std::string kinds;
+      for (const auto& k : known_kinds()) kinds += (kinds.empty() ? "" : ", ") + k;
+      throw ControlError("unknown kind '" + kind + "'; this build converts: " + kinds);
+    }
+    toml::table overrides;
+    for (const auto& s : args.value("set", nlohmann::json::array())) {
+      try {
+        apply_set(overrides, s.get<std::string>());
+      } catch (const ParamError& e) {
+        throw ControlError(e.what());
+      }
+    }
+    // Refuse bad parameters now, while the user is at the terminal.
+    toml::table merged = config()->kind_defaults.at(kind);
+    merge_into(merged, overrides);
+    try {
+      validate_kind_params(kind, merged, "--set");
+    } catch (const ParamError& e) {
+      throw ControlError(e.what());
+    }
+    std::ostringstream text;
+    text << overrides;
+    int64_t id;
+    try {
+      id = jobs_->submit(path, kind, overrides.empty() ? "" : text.str());
+    } catch (const std::runtime_error& e) {
+      throw ControlError(e.what());
+    }
+    scheduler_->enqueue(id);
+    return job_to_json(*store_->get(id));
+  }
+  if (verb == "cancel") {
+    const int64_t id = job_id_arg(args);
+    auto job = store_->get(id);
+    if (!job) throw ControlError("no job " + std::to_string(id));
+    if (!scheduler_->cancel(id))
+      throw ControlError("job " + std::to_string(id) + " is " + state_name(job->state) +
+                         "; only queued or converting jobs can be canceled");
+    // A converting job reaches `canceled` when its converter has stopped (well under 1 s).
+    for (int i = 0; i < 50; ++i) {
+      job = store_->get(id);
+      if (job->state != JobState::converting) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return job_to_json(*job);
+  }
+  if (verb == "retry") {
+    const int64_t id = job_id_arg(args);
+    try {
+      jobs_->retry(id);
+    } catch (const std::runtime_error& e) {
+      throw ControlError(e.what());
+    }
+    scheduler_->enqueue(id);
+    return job_to_json(*store_->get(id));
+  }
+  if (verb == "start" || verb == "resume" || verb == "frame") {
+    const int64_t id = job_id_arg(args);
+    auto job = store_->get(id);
+    if (!job) throw ControlError("no job " + std::to_string(id));
+    throw ControlError("job " + std::to_string(id) + " (" + job->kind + ", " +
+                       state_name(job->state) + "): no device is configured for kind " +
+                       job->kind + ", so there is nothing to " + verb);
+  }
+  if (verb == "devices") return nlohmann::json::array();
+  if (verb == "wood")
+    throw ControlError("the veneer stock belongs to parquetry jobs, which this build does not convert");
+  throw ControlError("unknown verb '" + verb + "'");
+}
+
+void Daemon::reload() {
+  try {
+    Config fresh = load_config(config_file_);
+    auto old = config();
+    if (fresh.spool_dir != old->spool_dir || fresh.store_path != old->store_path ||
+        fresh.socket_path != old->socket_path || fresh.workers != old->workers ||
+        fresh.watch != old->watch) {
+      log::warning("reload: spool, store, socket, watch and workers take effect at restart");
+    }
+    {
+      std::lock_guard lock(config_mu_);
+      config_ = std::make_shared<const Config>(std::move(fresh));
+    }
+    log::info("reloaded " + config_file_.string());
+  } catch (const std::exception& e) {
+    log::error("reload failed, keeping the running configuration: " + std::string(e.what()));
+  }
+}
+
+void Daemon::notify_status() {
+  auto counts = store_->counts();
+  std::ostringstream s;
+  s << "STATUS=queued " << counts[JobState::queued] << ", converting "
+    << counts[JobState::converting] << ", completed " << counts[JobState::completed]
+    << ", failed " << counts[JobState::failed];
+  sd_notify(0, s.str().c_str());
+}
+
+int Daemon::run() {
+  const auto cfg = config();
+  // Watch before scanning, so nothing dropped in between is missed.
+  hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
+  for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
+  scheduler_->start(cfg->workers);
+  for (const auto& entry : hot_folder_->scan()) claim(entry);
+  control_->start();
+
+  uint64_t watchdog_usec = 0;
+  const bool watchdog = sd_watchdog_enabled(0, &watchdog_usec) > 0;
+  sd_notify(0, "READY=1");
+  log::info("atelierd ready: spool " + cfg->spool_dir.string() + ", socket " +
+            cfg->socket_path.string());
+  notify_status();
+
+  using clock = std::chrono::steady_clock;
+  auto next_tick = clock::now();
+  const auto tick = std::chrono::milliseconds(
+      watchdog ? std::min<uint64_t>(1000, watchdog_usec / 2000) : 1000);
+  bool running = true;
+  while (running) {
+    std::vector<struct pollfd> fds = {{signal_fd_, POLLIN, 0}};
+    if (hot_folder_->fd() >= 0) fds.push_back({hot_folder_->fd(), POLLIN, 0});
+    auto timeout = hot_folder_->fd() >= 0 ? tick : std::min<std::chrono::milliseconds>(
+                                                       tick, hot_folder_->poll_interval());
+    if (::poll(fds.data(), fds.size(), static_cast<int>(timeout.count())) < 0 && errno != EINTR) {
+      log::error(std::string("poll: ") + strerror(errno));
+      break;
+    }
+    if (fds[0].revents & POLLIN) {
+      struct signalfd_siginfo si;
+      while (::read(signal_fd_, &si, sizeof si) == sizeof si) {
+        if (si.ssi_signo == SIGHUP) {
+          sd_notify(0, "RELOADING=1");
+          reload();
+          sd_notify(0, "READY=1");
+        } else {
+          running = false;
+        }
+      }
+    }
+    if (!running) break;
+    for (const auto& entry : hot_folder_->collect()) claim(entry);
+    if (clock::now() >= next_tick) {
+      next_tick = clock::now() + tick;
+      if (watchdog) sd_notify(0, "WATCHDOG=1");
+      notify_status();
+    }
+  }
+  sd_notify(0, "STOPPING=1");
+  log::info("stopping: no new jobs; conversions in progress are re-queued");
+  hot_folder_.reset();
+  scheduler_->stop();
+  control_->stop();
+  log::info("stopped");
+  return 0;
+}
+
+}  // namespace atelier
