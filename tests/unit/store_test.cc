@@ -300,6 +300,29 @@ TEST_F(StoreTest, MigratesVersionOneDatabaseKeepingItsRows) {
                         "('jobs_by_state', 'jobs_by_kind')"), 2);
 }
 
+TEST_F(StoreTest, FailedMigrationStepRollsBackWholeAndNamesTheStep) {
+  fs::create_directories(db_path().parent_path());
+  {
+    RawDb raw(db_path());
+    raw.exec(kV1Sql);
+    raw.exec("PRAGMA user_version = 1");
+    raw.exec("INSERT INTO jobs (id, kind, name, state, created_ms, updated_ms) "
+             "VALUES (1, 'knit', 'a.png', 'queued', 1, 1)");
+    // An object squatting on a name step 2 creates makes that step fail halfway.
+    raw.exec("CREATE TABLE jobs_by_kind (x INTEGER)");
+  }
+  std::string msg = error_of([&] { Store store(db_path()); });
+  EXPECT_NE(msg.find(db_path().string()), std::string::npos) << msg;
+  EXPECT_NE(msg.find("schema version 2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("jobs_by_kind"), std::string::npos) << msg;  // SQLite's own message
+
+  RawDb raw(db_path());
+  EXPECT_EQ(raw.integer("PRAGMA user_version"), 1);
+  // The step's first statement ran before the failure and was rolled back with it.
+  EXPECT_EQ(raw.integer("SELECT COUNT(*) FROM sqlite_master WHERE name = 'jobs_by_state'"), 0);
+  EXPECT_EQ(raw.integer("SELECT COUNT(*) FROM jobs"), 1);
+}
+
 TEST_F(StoreTest, RefusesDatabaseFromNewerVersionAndLeavesItAlone) {
   fs::create_directories(db_path().parent_path());
   const int future = latest_schema_version() + 3;
