@@ -34,7 +34,7 @@ TEST(KnitFloats, ViolatingRunsListedLeftToRightRowByRow) {
   rules.max_float = 3;
   cv::Mat g;
   cv::vconcat(row("0000011010"), row("0101111111"), g);
-  const std::vector<Run> runs = violating_runs(g, rules);
+  const auto runs = violating_runs(g, rules);  // (Run alone names testing::Test::Run here)
   ASSERT_EQ(runs.size(), 2u);
   EXPECT_EQ(runs[0].row, 0);
   EXPECT_EQ(runs[0].start, 0);
@@ -56,7 +56,7 @@ TEST(KnitFloats, RelaxedStitchesSplitRunsAndAreExempt) {
   rules.relax = mask("....r.....");  // 8 zeros split into 3 | relaxed | 4
   EXPECT_EQ(count_violations(g, rules), 1);
   EXPECT_EQ(longest_float(g, rules), 4);
-  rules.relax = mask("...rr.....");
+  rules.relax = mask("...rrr....");  // 2 | relaxed | 3
   EXPECT_EQ(count_violations(g, rules), 0);
   EXPECT_EQ(consistent_stitches(g, rules), 10);
   rules.relax = mask("rrrrrrrrrr");
