@@ -8,37 +8,48 @@
 namespace atelier::knit {
 namespace {
 
-cv::Scalar scaled(const cv::Vec3b& c, double k) {
-  return cv::Scalar(std::min(255.0, c[0] * k), std::min(255.0, c[1] * k), std::min(255.0, c[2] * k));
-}
-
-// One stitch of one yarn: two slanted legs meeting at the bottom centre (the knit "V"),
-// each shaded light at its outer top and dark along its inner edge, on a darker gap colour
-// that shows between the legs and between neighbouring stitches.
+// One stitch of one yarn: two slanted legs meeting at the bottom centre (the knit "V") on a
+// darker gap colour that shows between the legs and between neighbouring stitches. Each leg
+// is shaded like a round strand: bright along its middle, darker towards its edges.
 cv::Mat stitch_tile(const cv::Vec3b& yarn, int w, int h) {
   // Drawn at 4x and shrunk with area averaging for smooth edges at any stitch size.
   const int s = 4, W = w * s, H = h * s;
-  cv::Mat big(H, W, CV_8UC3, scaled(yarn, 0.55));
+  const cv::Vec3f colour(yarn[0], yarn[1], yarn[2]);
+  const double gap_shade = 0.58;
+  cv::Mat big(H, W, CV_32FC3, cv::Scalar::all(0));
+  struct Leg {
+    cv::Point2d centre, axis;  // axis: unit vector along the leg
+    double half_length, half_width;
+  };
+  Leg legs[2];
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
-    const cv::Point2d top(W / 2.0 + sign * W * 0.27, H * 0.05), bottom(W / 2.0, H * 0.98);
-    const cv::Point2d dir = bottom - top;
-    const double len = std::hypot(dir.x, dir.y);
-    const double angle = std::atan2(dir.y, dir.x) * 180.0 / CV_PI;
-    const cv::Point2d mid = (top + bottom) * 0.5;
-    const auto at = [](const cv::Point2d& p) { return cv::Point(cvRound(p.x), cvRound(p.y)); };
-    // Body of the leg in the yarn colour, then a thinner highlight shifted to its outer side.
-    cv::ellipse(big, at(mid), cv::Size(cvRound(len * 0.56), cvRound(W * 0.2)), angle, 0, 360,
-                scaled(yarn, 0.85), cv::FILLED, cv::LINE_AA);
-    const cv::Point2d outer(sign * W * 0.04, -H * 0.03);
-    cv::ellipse(big, at(mid + outer), cv::Size(cvRound(len * 0.46), cvRound(W * 0.12)), angle, 0,
-                360, scaled(yarn, 1.0), cv::FILLED, cv::LINE_AA);
-    cv::ellipse(big, at(mid + outer * 1.6), cv::Size(cvRound(len * 0.3), cvRound(W * 0.05)), angle,
-                0, 360, scaled(yarn, 1.18), cv::FILLED, cv::LINE_AA);
+    const cv::Point2d top(W * (0.5 + sign * 0.30), H * 0.02), bottom(W * (0.5 + sign * 0.05), H * 1.0);
+    const cv::Point2d d = bottom - top;
+    const double len = std::hypot(d.x, d.y);
+    legs[side] = Leg{(top + bottom) * 0.5, d / len, len * 0.56, W * 0.2};
   }
-  cv::GaussianBlur(big, big, cv::Size(), s * 0.5);
+  for (int y = 0; y < H; ++y) {
+    cv::Vec3f* row = big.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < W; ++x) {
+      double shade = gap_shade;
+      for (const Leg& leg : legs) {
+        const cv::Point2d p = cv::Point2d(x + 0.5, y + 0.5) - leg.centre;
+        const double u = (p.x * leg.axis.x + p.y * leg.axis.y) / leg.half_length;
+        const double v = (p.x * -leg.axis.y + p.y * leg.axis.x) / leg.half_width;
+        const double r2 = u * u + v * v;
+        if (r2 > 1.0) continue;
+        // Round strand: brightest a little off the middle, falling off to the edge, and
+        // slightly darker towards the leg's ends where it dives under the next stitch.
+        const double across = std::sqrt(std::max(0.0, 1.0 - (v + 0.25) * (v + 0.25) / 1.6));
+        shade = std::max(shade, 0.68 + 0.37 * across * (1.0 - 0.3 * u * u));
+      }
+      row[x] = colour * static_cast<float>(shade);
+    }
+  }
   cv::Mat tile;
   cv::resize(big, tile, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+  tile.convertTo(tile, CV_8UC3);  // saturates highlights of light yarns at 255
   return tile;
 }
 
