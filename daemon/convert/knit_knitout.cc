@@ -27,7 +27,6 @@ std::string make_knitout(const cv::Mat& grid, const KnitoutOptions& options) {
       << ";;Machine: generic two-carrier flat knitting machine\n"
       << ";;Gauge: " << gauge << "\n"
       << ";;Carriers: 1 2\n"
-      << ";;Width: " << width << "\n"
       << "; " << options.title << "\n"
       << "; Fair Isle, " << width << " stitches x " << rows
       << " rows; carrier 1 = background yarn, carrier 2 = contrast yarn\n"

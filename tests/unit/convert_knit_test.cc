@@ -1,0 +1,243 @@
+// convert() for kind knit on real images: every output exists and keeps its promises.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "daemon/convert/convert.h"
+#include "daemon/convert/param_table.h"
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kData = ATELIER_TEST_DATA;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Longest run of one colour in any row of a 0/255 image.
+int longest_row_run(const cv::Mat& img) {
+  int longest = 0;
+  for (int r = 0; r < img.rows; ++r) {
+    int run = 0;
+    for (int c = 0; c < img.cols; ++c) {
+      run = (c > 0 && img.at<uchar>(r, c) == img.at<uchar>(r, c - 1)) ? run + 1 : 1;
+      longest = std::max(longest, run);
+    }
+  }
+  return longest;
+}
+
+class ConvertKnitTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    out_ = fs::temp_directory_path() /
+           ("atelier-convert-knit-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(out_);
+  }
+  void TearDown() override { fs::remove_all(out_); }
+
+  ConvertResult run(const fs::path& input, const std::vector<std::string>& sets) {
+    ConvertRequest req;
+    req.kind = "knit";
+    req.input = input;
+    for (const auto& s : sets) apply_set(req.params, s);
+    req.output_dir = out_;
+    req.progress = [this](double f) { progress_.push_back(f); };
+    return convert(req);
+  }
+
+  // Checks every output for a pattern of `width` stitches and the given max float.
+  void check_outputs(int width, int max_float) {
+    for (const char* name : {"pattern.png", "preview.png", "chart.pdf", "pattern.k", "report.json"})
+      ASSERT_TRUE(fs::exists(out_ / name)) << name;
+
+    cv::Mat pattern = cv::imread((out_ / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_EQ(pattern.cols, width);
+    ASSERT_GT(pattern.rows, 0);
+    EXPECT_EQ(cv::countNonZero((pattern != 0) & (pattern != 255)), 0) << "pattern.png is not black/white";
+    EXPECT_LE(longest_row_run(pattern), max_float);
+
+    nlohmann::json report = nlohmann::json::parse(slurp(out_ / "report.json"));
+    for (const char* key :
+         {"parameters", "input", "grid", "conflicts_before", "conflicts_after",
+          "consistent_before_pct", "consistent_after_pct", "flips", "random_walk_flips",
+          "search_flips", "longest_float", "max_float", "solver", "complete", "similarity",
+          "similarity_start", "timings_ms", "outputs", "first_row"})
+      EXPECT_TRUE(report.contains(key)) << key;
+    EXPECT_EQ(report["conflicts_after"], 0);
+    EXPECT_EQ(report["complete"], true);
+    EXPECT_EQ(report["grid"]["stitches"], width);
+    EXPECT_EQ(report["grid"]["rows"], pattern.rows);
+    EXPECT_LE(report["longest_float"].get<int>(), max_float);
+    EXPECT_EQ(report["first_row"], "bottom");
+    EXPECT_GT(report["similarity"].get<double>(), 0.0);
+    EXPECT_EQ(report["flips"].get<long>(),
+              report["random_walk_flips"].get<long>() + report["search_flips"].get<long>());
+
+    std::string pdf = slurp(out_ / "chart.pdf");
+    EXPECT_EQ(pdf.rfind("%PDF", 0), 0u);
+
+    check_knitout(slurp(out_ / "pattern.k"), pattern);
+    ASSERT_FALSE(progress_.empty());
+    EXPECT_DOUBLE_EQ(progress_.back(), 1.0);
+  }
+
+  // Two passes per row in one direction, alternating per row; each needle knitted exactly once
+  // per row, by carrier 2 exactly where pattern.png is black (f1 = leftmost, row 1 = bottom).
+  static void check_knitout(const std::string& k, const cv::Mat& pattern) {
+    ASSERT_EQ(k.rfind(";!knitout-2\n", 0), 0u);
+    EXPECT_THAT(k, HasSubstr(";;Carriers: 1 2\n"));
+    EXPECT_THAT(k, HasSubstr(";;Machine:"));
+    EXPECT_THAT(k, HasSubstr(";;Gauge:"));
+    EXPECT_THAT(k, HasSubstr("inhook 1\n"));
+    EXPECT_THAT(k, HasSubstr("releasehook 1\n"));
+    EXPECT_THAT(k, HasSubstr("tuck "));
+    EXPECT_GT(k.rfind("outhook 1"), k.rfind("; row "));
+
+    std::istringstream in(k);
+    std::string line;
+    int row = 0;
+    std::vector<std::string> ops;
+    char last_dir = 0;
+    size_t carrier2_knits = 0;
+    auto finish_row = [&]() {
+      if (row == 0) return;
+      SCOPED_TRACE("row " + std::to_string(row));
+      const int w = pattern.cols;
+      ASSERT_EQ(ops.size(), static_cast<size_t>(2 * w)) << "two full passes";
+      std::vector<int> knits(w, 0);
+      char dir = 0;
+      for (size_t i = 0; i < ops.size(); ++i) {
+        std::istringstream op(ops[i]);
+        std::string verb, d, needle;
+        int carrier = 0;
+        op >> verb >> d >> needle >> carrier;
+        ASSERT_EQ(carrier, i < static_cast<size_t>(w) ? 1 : 2) << ops[i];
+        if (dir == 0) dir = d[0];
+        ASSERT_EQ(d[0], dir) << "both passes in one direction: " << ops[i];
+        int n = std::stoi(needle.substr(1)) - 1;
+        ASSERT_TRUE(n >= 0 && n < w) << ops[i];
+        if (verb == "knit") {
+          ++knits[n];
+          bool contrast = pattern.at<uchar>(pattern.rows - row, n) == 0;
+          EXPECT_EQ(carrier == 2, contrast) << ops[i];
+          if (carrier == 2) ++carrier2_knits;
+        } else {
+          ASSERT_EQ(verb, "miss") << ops[i];
+        }
+      }
+      for (int n = 0; n < w; ++n) ASSERT_EQ(knits[n], 1) << "needle f" << n + 1;
+      ASSERT_NE(dir, last_dir) << "direction alternates";
+      last_dir = dir;
+    };
+    while (std::getline(in, line)) {
+      if (line.rfind("; row ", 0) == 0) {
+        finish_row();
+        ops.clear();
+        row = std::stoi(line.substr(6));
+      } else if (row > 0 && (line.rfind("knit ", 0) == 0 || line.rfind("miss ", 0) == 0)) {
+        ops.push_back(line);
+      }
+    }
+    finish_row();
+    EXPECT_EQ(row, pattern.rows);
+    EXPECT_GT(carrier2_knits, 0u) << "the contrast carrier is used";
+  }
+
+  fs::path out_;
+  std::vector<double> progress_;
+};
+
+TEST_F(ConvertKnitTest, LineDrawingPic3) {
+  ConvertResult r = run(kData / "pic3.png", {"width=90"});
+  check_outputs(90, 4);
+  EXPECT_EQ(r.report["solver"], "hybrid");
+  EXPECT_EQ(r.outputs.size(), 5u);
+}
+
+TEST_F(ConvertKnitTest, PhotoButterflyWithLongerFloats) {
+  run(kData / "butterfly.jpg", {"max_float=6", "solver=\"gsat\"", "dither=atkinson"});
+  check_outputs(120, 6);
+  nlohmann::json report = nlohmann::json::parse(slurp(out_ / "report.json"));
+  EXPECT_EQ(report["parameters"]["dither"], "atkinson");
+  EXPECT_EQ(report["parameters"]["dither_used"], "atkinson");
+  EXPECT_FALSE(report.contains("dither_auto_choice"));
+}
+
+TEST_F(ConvertKnitTest, WidePatternChartSpansSeveralPages) {
+  run(kData / "butterfly.jpg", {"width=200"});
+  std::string pdf = slurp(out_ / "chart.pdf");
+  // Page objects, not the "/Type /Pages" tree.
+  size_t pages = count(pdf, "/Type /Page") - count(pdf, "/Type /Pages");
+  EXPECT_GT(pages, 1u);
+  nlohmann::json report = nlohmann::json::parse(slurp(out_ / "report.json"));
+  EXPECT_EQ(report["chart_pages"].get<size_t>(), pages);
+  cv::Mat pattern = cv::imread((out_ / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+  EXPECT_EQ(pattern.cols, 200);
+}
+
+TEST_F(ConvertKnitTest, AutoDitherExplainsItsChoice) {
+  nlohmann::json report = run(kData / "butterfly.jpg", {"width=60"}).report;
+  EXPECT_EQ(report["parameters"]["dither"], "auto");
+  ASSERT_TRUE(report.contains("dither_auto_choice"));
+  EXPECT_EQ(report["dither_auto_choice"], report["parameters"]["dither_used"]);
+  EXPECT_TRUE(report.contains("dither_auto_reason"));
+}
+
+TEST_F(ConvertKnitTest, RelaxMaskBesideTheInputFreesItsArea) {
+  // A copy of pic3 with a mask whose left half is dark (relaxed): the solver leaves the long
+  // white floats of the background there, and still removes every one elsewhere.
+  fs::create_directories(out_ / "in");
+  fs::path input = out_ / "in" / "pic3.png";
+  fs::copy_file(kData / "pic3.png", input);
+  cv::Mat mask(300, 400, CV_8UC1, cv::Scalar(255));
+  mask(cv::Rect(0, 0, 200, 300)).setTo(0);
+  ASSERT_TRUE(cv::imwrite((out_ / "in" / "pic3.png.relax.png").string(), mask));
+  nlohmann::json report = run(input, {"width=80"}).report;
+  EXPECT_GT(report["relaxed_stitches"].get<long>(), 0);
+  EXPECT_EQ(report["complete"], true);
+  EXPECT_THAT(report["parameters"]["relax_mask"].get<std::string>(), HasSubstr("pic3.png.relax.png"));
+  cv::Mat pattern = cv::imread((out_ / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_EQ(pattern.cols, 80);
+  EXPECT_GT(longest_row_run(pattern(cv::Rect(0, 0, 38, pattern.rows))), 4);
+  EXPECT_LE(longest_row_run(pattern(cv::Rect(42, 0, 38, pattern.rows))), 4);
+}
+
+TEST_F(ConvertKnitTest, BadInputIsAConvertErrorNamingTheFile) {
+  fs::create_directories(out_);
+  std::ofstream(out_ / "notes.png") << "shopping list\n";
+  try {
+    run(out_ / "notes.png", {});
+    FAIL() << "no error";
+  } catch (const ConvertError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("notes.png"));
+  }
+  EXPECT_THROW(run(kData / "pic3.png", {"width=3"}), ParamError);
+  EXPECT_THROW(run(kData / "pic3.png", {"relax_mask=\"missing.png\""}), ConvertError);
+}
+
+}  // namespace
+}  // namespace atelier

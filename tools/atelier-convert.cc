@@ -1,0 +1,180 @@
+// atelier-convert: one job's conversion without the daemon (the daemon runs it as a child).
+//
+//   atelier-convert KIND INPUT OUTPUT_DIR [--params FILE.toml] [--set key=value ...]
+//                   [--progress-fd N] [--max-file-bytes B] [--max-pixels P]
+//
+// Parameters are layered: --params (the daemon's merged defaults), then `<INPUT>.toml` beside
+// the input when it exists (the sidecar, as in the hot folder), then each --set. Writes the
+// kind's outputs and a copy of the input into OUTPUT_DIR, like a job's done/<id>/ folder.
+// Exit codes: 0 ok, 1 bad input or parameters (message on stderr), 2 usage.
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "daemon/convert/convert.h"
+#include "daemon/convert/param_table.h"
+
+namespace fs = std::filesystem;
+using atelier::ConvertError;
+using atelier::ParamError;
+
+namespace {
+
+// Reads a whole TOML file (also /dev/stdin, which cannot be sized or seeked).
+toml::table parse_toml_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ParamError(path + ": cannot open: " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    return toml::parse(text.str(), std::string_view{path});
+  } catch (const toml::parse_error& e) {
+    throw ParamError(path + ":" + std::to_string(e.source().begin.line) + ": " +
+                     std::string(e.description()));
+  }
+}
+
+// Reports progress to the daemon (a "progress F" line per percent on a pipe) and, on a
+// terminal, as a bar once the work has run for more than a second.
+class Progress {
+ public:
+  Progress(int fd, std::string label) : fd_(fd), label_(std::move(label)), tty_(isatty(2)) {}
+  ~Progress() {
+    if (bar_shown_) std::fprintf(stderr, "\r\033[K");
+  }
+
+  void operator()(double f) {
+    int percent = static_cast<int>(f * 100 + 0.5);
+    if (percent == last_percent_) return;
+    last_percent_ = percent;
+    if (fd_ >= 0) {
+      char line[32];
+      int n = std::snprintf(line, sizeof line, "progress %.2f\n", f);
+      ssize_t ignored = ::write(fd_, line, static_cast<size_t>(n));  // daemon gone: no matter
+      (void)ignored;
+    }
+    if (tty_ && std::chrono::steady_clock::now() - start_ > std::chrono::seconds(1)) {
+      const int width = 30;
+      int filled = percent * width / 100;
+      std::fprintf(stderr, "\r[%s%s] %3d%% %s", std::string(filled, '#').c_str(),
+                   std::string(width - filled, ' ').c_str(), percent, label_.c_str());
+      std::fflush(stderr);
+      bar_shown_ = true;
+    }
+  }
+
+ private:
+  int fd_;
+  std::string label_;
+  bool tty_;
+  bool bar_shown_ = false;
+  int last_percent_ = -1;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// The copy of the input that a done/<job-id>/ folder holds. Skipped when the input already
+// lives in the output folder; renamed when its name would clash with an output file.
+void copy_input(const fs::path& input, const fs::path& out_dir,
+                const std::vector<std::string>& outputs) {
+  std::error_code ec;
+  if (fs::equivalent(input.parent_path().empty() ? "." : input.parent_path(), out_dir, ec)) return;
+  std::string name = input.filename().string();
+  for (const auto& o : outputs)
+    if (o == name) name = "input-" + name;
+  fs::copy_file(input, out_dir / name, fs::copy_options::overwrite_existing, ec);
+  // A read-only source must not make the copy read-only: a rerun overwrites it.
+  if (!ec) fs::permissions(out_dir / name, fs::perms::owner_write, fs::perm_options::add, ec);
+  if (ec) throw ConvertError(name + ": cannot copy into " + out_dir.string() + ": " + ec.message());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a vanished daemon must not kill a conversion mid-write
+
+  CLI::App app{"atelier-convert: convert one input file as an atelier job would"};
+  std::string kind, input, output_dir, params_file;
+  std::vector<std::string> sets;
+  int progress_fd = -1;
+  atelier::ImageLimits limits;
+  app.add_option("KIND", kind, "kind of job (known: knit)")->required();
+  app.add_option("INPUT", input, "input image")->required();
+  app.add_option("OUTPUT_DIR", output_dir, "folder for the outputs (created if missing)")
+      ->required();
+  app.add_option("--params", params_file, "TOML file of parameters (applied first)");
+  app.add_option("--set", sets, "override one parameter, key=value (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--progress-fd", progress_fd, "write \"progress F\" lines to this fd")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--max-file-bytes", limits.max_file_bytes, "largest input file in bytes");
+  app.add_option("--max-pixels", limits.max_pixels, "largest input image in pixels");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  if (!atelier::is_known_kind(kind)) {
+    std::string list;
+    for (const auto& k : atelier::known_kinds()) list += (list.empty() ? "" : ", ") + k;
+    std::cerr << "error: unknown kind '" << kind << "' (known kinds: " << list << ")\n"
+              << "Run with --help for more information.\n";
+    return 2;
+  }
+
+  try {
+    // Each layer is checked on its own first, so an error names its file and line.
+    toml::table params;
+    if (!params_file.empty()) {
+      toml::table layer = parse_toml_file(params_file);
+      atelier::validate_kind_params(kind, layer, params_file);
+      atelier::merge_into(params, layer);
+    }
+    fs::path in(input);
+    fs::path sidecar = in;
+    sidecar += ".toml";
+    std::error_code ec;
+    if (in.extension() != ".toml" && fs::is_regular_file(sidecar, ec)) {
+      toml::table layer = parse_toml_file(sidecar.string());
+      atelier::validate_kind_params(kind, layer, sidecar.string());
+      atelier::merge_into(params, layer);
+    }
+    toml::table overrides;
+    for (const auto& s : sets) atelier::apply_set(overrides, s);
+    atelier::validate_kind_params(kind, overrides, "--set");
+    atelier::merge_into(params, overrides);
+
+    Progress progress(progress_fd, in.filename().string());
+    atelier::ConvertRequest req;
+    req.kind = kind;
+    req.input = in;
+    req.params = std::move(params);
+    req.params_source = "parameters";
+    req.output_dir = output_dir;
+    req.limits = limits;
+    req.progress = [&progress](double f) { progress(f); };
+    atelier::ConvertResult result = atelier::convert(req);
+    copy_input(in, output_dir, result.outputs);
+  } catch (const ConvertError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  } catch (const ParamError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << input << ": " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
