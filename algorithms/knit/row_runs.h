@@ -65,23 +65,23 @@ struct RowView {
   // repairs). Looks only at the run holding x and the runs it would merge with.
   long flip_delta(int x) const {
     const int s = run_start(x), e = run_end(x);
+    const int ls = (x == s && x > 0 && !relaxed(x - 1)) ? run_start(x - 1) : x;
+    const int re = (x == e && x + 1 < width && !relaxed(x + 1)) ? run_end(x + 1) : x;
+    return flip_delta(x, s, e, ls, re);
+  }
+
+  // Same, with the extents already known: x lies in run [s, e]; when x == s, ls is the start
+  // of the run on its left that it would join (ls == x if none); when x == e, re is the end
+  // of the run on its right (re == x if none).
+  long flip_delta(int x, int s, int e, int ls, int re) const {
     const long before_run = run_violations(s, e - s + 1);
     if (x != s && x != e) {  // interior: the run splits, the flipped stitch stands alone
       return run_violations(s, x - s) + run_violations(x + 1, e - x) - before_run;
     }
     // An end stitch joins the neighbouring run(s) of the other colour.
-    const bool has_left = x == s && x > 0 && !relaxed(x - 1);
-    const bool has_right = x == e && x + 1 < width && !relaxed(x + 1);
-    int ls = x, re = x;
     long before = before_run;
-    if (has_left) {
-      ls = run_start(x - 1);
-      before += run_violations(ls, x - ls);
-    }
-    if (has_right) {
-      re = run_end(x + 1);
-      before += run_violations(x + 1, re - x);
-    }
+    if (ls < x) before += run_violations(ls, x - ls);
+    if (re > x) before += run_violations(x + 1, re - x);
     long after = run_violations(ls, re - ls + 1);  // the merged run of the other colour
     if (s != e) after += (x == s) ? run_violations(s + 1, e - s) : run_violations(s, e - s);
     return after - before;

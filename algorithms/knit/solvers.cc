@@ -213,29 +213,89 @@ long run_min_conflict(cv::Mat& grid, const FloatRules& rules, Rng& rng,
   return flips;
 }
 
+// Start and end column of the run holding every stitch, so Random Walk checks a drawn stitch
+// in O(1) however long its run. Kept up to date over just the runs a flip touches.
+class RunIndex {
+ public:
+  RunIndex(const cv::Mat& grid, const FloatRules& rules)
+      : grid_(grid), rules_(rules), start_(grid.total()), end_(grid.total()) {
+    for (int y = 0; y < grid.rows; ++y) {
+      const RowView r = detail::row_view(grid, rules, y);
+      index(r, y, 0, grid.cols - 1);
+    }
+  }
+  int start(int y, int x) const { return start_[offset(y, x)]; }
+  // Asks the CPU to fetch what checking stitch `cell` (row-major) will read.
+  void prefetch(uint64_t cell) const {
+    __builtin_prefetch(grid_.data + cell);
+    __builtin_prefetch(&start_[cell]);
+    __builtin_prefetch(&end_[cell]);
+  }
+  int end(int y, int x) const { return end_[offset(y, x)]; }
+
+  // Flips stitch x of row y and re-indexes the runs it split or joined.
+  void flip_at(RowView& r, int y, int x) {
+    const int s = start(y, x), e = end(y, x);
+    const int lo = (x == s && x > 0 && !r.relaxed(x - 1)) ? start(y, x - 1) : s;
+    const int hi = (x == e && x + 1 < r.width && !r.relaxed(x + 1)) ? end(y, x + 1) : e;
+    flip(r, x);
+    index(r, y, lo, hi);
+  }
+
+ private:
+  size_t offset(int y, int x) const { return static_cast<size_t>(y) * grid_.cols + x; }
+  void index(const RowView& r, int y, int first, int last) {
+    int* starts = &start_[offset(y, 0)];
+    int* ends = &end_[offset(y, 0)];
+    for (int x = first; x <= last; ++x) starts[x] = ends[x] = x;  // relaxed: itself
+    r.for_each_run_in(first, last, [&](int s, int len) {
+      for (int x = s; x < s + len; ++x) starts[x] = s, ends[x] = s + len - 1;
+    });
+  }
+
+  const cv::Mat& grid_;
+  const FloatRules& rules_;
+  std::vector<int> start_, end_;
+};
+
 // 4.1: rounds of n uniformly drawn stitches; a conflicting one is flipped when that drops
-// the violations by at least m. Stops when fewer than q of a round's n are conflicting, or
-// after a bounded number of rounds (each stitch drawn about four times on average), since
-// runs that no flip can repair by m keep conflicting forever.
+// the violations by at least m. Stops when fewer than q of a round's n are conflicting.
+// Runs that no single flip repairs by m keep conflicting forever, so it also stops when no
+// violations are left, when the last kWindow rounds flipped fewer than kWindow stitches
+// (under one flip per round: the walk has run dry), or after drawing as many stitches as
+// the grid holds.
 long run_random_walk(cv::Mat& grid, const FloatRules& rules, const SolverParams& params,
                      long violations, Rng& rng, const Progress& progress) {
-  const long cells = static_cast<long>(grid.total());
-  const long max_rounds = std::max(16L, 4 * cells / params.rw_n);
-  std::uniform_int_distribution<int> pick_row(0, grid.rows - 1), pick_col(0, grid.cols - 1);
+  constexpr long kWindow = 8;
+  const uint64_t cells = grid.total();
+  const long max_rounds = std::max<long>(kWindow, static_cast<long>(cells) / params.rw_n);
+  RunIndex runs(grid, rules);
+  std::vector<uint64_t> drawn(params.rw_n);
+  std::vector<long> flips_by_round;
   long flips = 0;
   for (long round = 0; round < max_rounds && violations > 0; ++round) {
     if (round % 256 == 0) progress(static_cast<double>(round) / max_rounds);
+    if (round >= kWindow && flips - flips_by_round[round - kWindow] < kWindow) break;
+    flips_by_round.push_back(flips);
+    // Draw the round's stitches first (the high bits of rng() * cells are uniform in
+    // [0, cells)) and prefetch them: checks are memory bound on large grids.
+    for (uint64_t& cell : drawn) {
+      cell = static_cast<uint64_t>((static_cast<unsigned __int128>(rng()) * cells) >> 64);
+      runs.prefetch(cell);
+    }
     int conflicting = 0;
-    for (int i = 0; i < params.rw_n; ++i) {
-      const int y = pick_row(rng), x = pick_col(rng);
+    for (const uint64_t cell : drawn) {
+      const int y = static_cast<int>(cell / grid.cols), x = static_cast<int>(cell % grid.cols);
       RowView r = detail::row_view(grid, rules, y);
       if (r.relaxed(x)) continue;
-      const int s = r.run_start(x), e = r.run_end(x);
+      const int s = runs.start(y, x), e = runs.end(y, x);
       if (r.run_violations(s, e - s + 1) == 0) continue;
       ++conflicting;
-      const long delta = r.flip_delta(x);
+      const int ls = (x == s && x > 0 && !r.relaxed(x - 1)) ? runs.start(y, x - 1) : x;
+      const int re = (x == e && x + 1 < r.width && !r.relaxed(x + 1)) ? runs.end(y, x + 1) : x;
+      const long delta = r.flip_delta(x, s, e, ls, re);
       if (-delta >= params.rw_m) {
-        flip(r, x);
+        runs.flip_at(r, y, x);
         violations += delta;
         ++flips;
       }
