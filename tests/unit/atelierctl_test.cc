@@ -257,7 +257,7 @@ TEST_F(AtelierctlTest, SubmitSendsAbsolutePathKindAndSets) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "job 42 cat.jpg: queued\n");
   ASSERT_EQ(daemon().requests().size(), 1u);
-  const json& req = daemon().requests()[0];
+  const json req = daemon().requests()[0];  // a copy: requests() returns by value
   EXPECT_EQ(req["verb"], "submit");
   EXPECT_EQ(req["args"]["path"], fs::canonical(dir_ / "work" / "cat.jpg").string());
   EXPECT_EQ(req["args"]["path"].get<std::string>().front(), '/');
