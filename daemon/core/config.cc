@@ -78,10 +78,11 @@ Config from_table(const toml::table& root, const std::string& source) {
     r.finish();
   }
   for (const auto& kind : known_kinds()) {
-    toml::table params;
-    if (const toml::table* t = top.get_table(kind)) params = *t;
-    validate_kind_params(kind, params, source);
-    c.kind_defaults[kind] = params;
+    // Validate the parsed table itself: copies of toml++ nodes lose their line numbers.
+    const toml::table* t = top.get_table(kind);
+    const toml::table empty;
+    validate_kind_params(kind, t ? *t : empty, source);
+    c.kind_defaults[kind] = t ? *t : empty;
   }
   if (const toml::array* devices = top.get_array("device")) {
     size_t i = 0;

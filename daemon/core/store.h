@@ -28,7 +28,7 @@ enum class JobState { queued, converting, ready, running, completed, failed, can
 std::string state_name(JobState s);                       // "queued", ...
 std::optional<JobState> state_from_name(const std::string& name);
 // True for the allowed edges of the job state machine (DESIGN.md "Job states"):
-// queued->converting|canceled; converting->ready|completed|failed|canceled|queued;
+// queued->converting|canceled|failed; converting->ready|completed|failed|canceled|queued;
 // ready->running|completed|canceled; running->completed|failed|canceled|interrupted;
 // failed|interrupted|canceled->queued (retry); interrupted->running (resume).
 bool transition_allowed(JobState from, JobState to);

@@ -31,7 +31,8 @@ std::optional<JobState> state_from_name(const std::string& name) {
 bool transition_allowed(JobState from, JobState to) {
   using S = JobState;
   switch (from) {
-    case S::queued: return to == S::converting || to == S::canceled;
+    case S::queued:  // failed: rejected at pick-up, before any conversion
+      return to == S::converting || to == S::canceled || to == S::failed;
     case S::converting:
       return to == S::ready || to == S::completed || to == S::failed || to == S::canceled ||
              to == S::queued;

@@ -1,0 +1,186 @@
+#include "tests/e2e/daemon_harness.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+extern char** environ;
+namespace fs = std::filesystem;
+
+namespace atelier::test {
+
+TempDir::TempDir() {
+  std::string tmpl = (fs::temp_directory_path() / "atelier-test-XXXXXX").string();
+  if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
+  path_ = tmpl;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+fs::path binary(const std::string& name) { return fs::path(ATELIER_BINARY_DIR) / "bin" / name; }
+fs::path test_image(const std::string& name) { return fs::path(ATELIER_TEST_DATA) / name; }
+
+void write_file(const fs::path& file, const std::string& bytes) {
+  std::ofstream out(file, std::ios::binary);
+  out << bytes;
+}
+
+void drop_file(const fs::path& src, const fs::path& dst) {
+  fs::path tmp = dst.parent_path() / ("." + dst.filename().string() + ".part");
+  fs::copy_file(src, tmp, fs::copy_options::overwrite_existing);
+  fs::rename(tmp, dst);
+}
+
+namespace {
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+}  // namespace
+
+CommandResult run_command(const std::vector<std::string>& argv) {
+  TempDir tmp;
+  fs::path out = tmp.path() / "out", err = tmp.path() / "err";
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  std::vector<char*> args;
+  std::vector<std::string> copy = argv;
+  for (auto& a : copy) args.push_back(a.data());
+  args.push_back(nullptr);
+  pid_t pid;
+  if (posix_spawn(&pid, args[0], &fa, nullptr, args.data(), environ) != 0)
+    throw std::runtime_error("cannot run " + argv[0]);
+  posix_spawn_file_actions_destroy(&fa);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status), slurp(out), slurp(err)};
+}
+
+DaemonProcess::DaemonProcess(fs::path root, std::string extra_toml) : root_(std::move(root)) {
+  std::ofstream cfg(config());
+  cfg << "[spool]\ndir = \"spool\"\n[store]\npath = \"jobs.sqlite\"\n[control]\nsocket = \""
+      << socket().string() << "\"\n"
+      << extra_toml;
+}
+
+DaemonProcess::~DaemonProcess() {
+  if (pid_ > 0) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+}
+
+fs::path DaemonProcess::incoming(const std::string& kind) const {
+  return spool() / "incoming" / kind;
+}
+
+std::string DaemonProcess::log() const { return slurp(root_ / "atelierd.log"); }
+
+void DaemonProcess::start() {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  fs::path log_file = root_ / "atelierd.log";
+  posix_spawn_file_actions_addopen(&fa, 2, log_file.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  std::string exe = binary("atelierd").string(), flag = "--config", cfg = config().string();
+  char* args[] = {exe.data(), flag.data(), cfg.data(), nullptr};
+  // The daemon's signal mask is inherited: make sure it starts with nothing blocked.
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t none;
+  sigemptyset(&none);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
+  if (posix_spawn(&pid_, exe.c_str(), &fa, &attr, args, environ) != 0)
+    throw std::runtime_error("cannot start " + exe);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
+  bool up = wait_for(
+      [this] {
+        try {
+          return request("status").value("ok", false);
+        } catch (const std::exception&) {
+          return false;
+        }
+      },
+      std::chrono::seconds(20));
+  if (!up) throw std::runtime_error("atelierd did not come up:\n" + log());
+}
+
+int DaemonProcess::stop(int signal) {
+  if (pid_ <= 0) return -1;
+  kill(pid_, signal);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+nlohmann::json DaemonProcess::request(const std::string& verb, const nlohmann::json& args) {
+  int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, socket().c_str(), sizeof addr.sun_path - 1);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    throw std::runtime_error("connect: " + std::string(strerror(errno)));
+  }
+  timeval tv{30, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  std::string line = nlohmann::json{{"verb", verb}, {"args", args}}.dump() + "\n";
+  if (::write(fd, line.data(), line.size()) != static_cast<ssize_t>(line.size())) {
+    ::close(fd);
+    throw std::runtime_error("write failed");
+  }
+  std::string reply;
+  char c;
+  while (::read(fd, &c, 1) == 1 && c != '\n') reply.push_back(c);
+  ::close(fd);
+  return nlohmann::json::parse(reply);
+}
+
+nlohmann::json DaemonProcess::jobs() {
+  auto r = request("list", {{"limit", 100000}});
+  return r.at("result");
+}
+
+bool DaemonProcess::wait_for(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
+  auto until = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < until) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return done();
+}
+
+bool DaemonProcess::wait_settled(size_t count, std::chrono::milliseconds timeout) {
+  return wait_for(
+      [&] {
+        auto list = jobs();
+        if (list.size() < count) return false;
+        for (const auto& j : list)
+          if (j["state"] == "queued" || j["state"] == "converting") return false;
+        return true;
+      },
+      timeout);
+}
+
+}  // namespace atelier::test

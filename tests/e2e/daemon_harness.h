@@ -1,0 +1,75 @@
+// Test harness: runs the real atelierd binary on a temporary spool and talks to it over
+// its control socket, as atelierctl does. One instance per test; not thread-safe.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace atelier::test {
+
+// A fresh temporary folder, removed when the object dies.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::filesystem::path binary(const std::string& name);  // <build>/bin/<name>
+std::filesystem::path test_image(const std::string& name);  // tests/data/<name>
+
+// Copies `src` to `dst` the way a careful user drops a file: under a temporary name in the
+// same folder, then renamed into place.
+void drop_file(const std::filesystem::path& src, const std::filesystem::path& dst);
+void write_file(const std::filesystem::path& file, const std::string& bytes);
+
+struct CommandResult {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+// Runs a program with arguments (no shell) and collects its output.
+CommandResult run_command(const std::vector<std::string>& argv);
+
+class DaemonProcess {
+ public:
+  // Writes <root>/atelierd.toml with the spool, store and socket inside `root`, plus
+  // `extra_toml` appended (e.g. "[limits]\nworkers = 1\n").
+  DaemonProcess(std::filesystem::path root, std::string extra_toml = "");
+  ~DaemonProcess();  // SIGKILLs a daemon still running
+
+  void start();                 // waits until the control socket answers
+  int stop(int signal = 15);    // sends `signal`, waits, returns exit code (-signal if killed)
+  bool running() const { return pid_ > 0; }
+
+  std::filesystem::path spool() const { return root_ / "spool"; }
+  std::filesystem::path incoming(const std::string& kind) const;
+  std::filesystem::path socket() const { return root_ / "control.sock"; }
+  std::filesystem::path config() const { return root_ / "atelierd.toml"; }
+  std::string log() const;      // the daemon's stderr so far
+
+  // One control request; returns the response object ({"ok":..., ...}).
+  nlohmann::json request(const std::string& verb, const nlohmann::json& args = nlohmann::json::object());
+  nlohmann::json jobs();        // list, newest first (result array)
+
+  // Polls `done` every 50 ms until it returns true or `timeout` passes.
+  bool wait_for(const std::function<bool()>& done,
+                std::chrono::milliseconds timeout = std::chrono::seconds(120));
+  // Waits until `count` jobs exist and none is queued or converting.
+  bool wait_settled(size_t count, std::chrono::milliseconds timeout = std::chrono::seconds(180));
+
+ private:
+  std::filesystem::path root_;
+  pid_t pid_ = -1;
+};
+
+}  // namespace atelier::test

@@ -1,0 +1,112 @@
+// The daemon config is strict: typos and wrong types stop the daemon with file, line, key.
+#include <gtest/gtest.h>
+
+#include "daemon/convert/param_table.h"
+#include "daemon/core/config.h"
+
+using atelier::Config;
+using atelier::ParamError;
+using atelier::parse_config;
+
+namespace {
+std::string error_of(const std::string& text) {
+  try {
+    parse_config(text, "/etc/atelier/atelierd.toml");
+  } catch (const ParamError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, ThreeLinesAreEnoughAndEverythingElseHasDefaults) {
+  Config c = parse_config(
+      "[spool]\ndir = \"/srv/spool\"\n[store]\npath = \"/srv/jobs.sqlite\"\n"
+      "[control]\nsocket = \"/srv/ctl.sock\"\n",
+      "/etc/atelier/atelierd.toml");
+  EXPECT_EQ(c.spool_dir, "/srv/spool");
+  EXPECT_EQ(c.store_path, "/srv/jobs.sqlite");
+  EXPECT_EQ(c.socket_path, "/srv/ctl.sock");
+  EXPECT_EQ(c.watch, atelier::WatchMode::inotify);
+  EXPECT_EQ(c.settle_ms, 500);
+  EXPECT_EQ(c.workers, 2);
+  EXPECT_EQ(c.job_timeout_s, 600);
+  EXPECT_EQ(c.limits.max_pixels, 40000000u);
+  EXPECT_EQ(c.limits.max_file_bytes, 209715200u);
+  EXPECT_TRUE(c.devices.empty());
+  EXPECT_TRUE(c.kind_defaults.count("knit"));
+}
+
+TEST(Config, RelativePathsFollowTheConfigFile) {
+  Config c = parse_config("[spool]\ndir = \"spool\"\n", "/opt/demo/atelierd.toml");
+  EXPECT_EQ(c.spool_dir, "/opt/demo/spool");
+}
+
+TEST(Config, MissingSpoolDirIsAnError) {
+  EXPECT_NE(error_of("[store]\npath = \"x\"\n").find("[spool]"), std::string::npos);
+  EXPECT_NE(error_of("[spool]\nwatch = \"poll\"\n").find("spool.dir"), std::string::npos);
+}
+
+TEST(Config, UnknownKeyNamesFileLineAndKey) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\n\n[limits]\nworkerz = 3\n");
+  EXPECT_NE(e.find("/etc/atelier/atelierd.toml:5"), std::string::npos) << e;
+  EXPECT_NE(e.find("limits.workerz"), std::string::npos) << e;
+}
+
+TEST(Config, UnknownSectionIsAnError) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[spooll]\ndir = \"/t\"\n");
+  EXPECT_NE(e.find("spooll"), std::string::npos) << e;
+}
+
+TEST(Config, WrongTypeNamesTheKey) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[limits]\nworkers = \"two\"\n");
+  EXPECT_NE(e.find(":4"), std::string::npos) << e;
+  EXPECT_NE(e.find("limits.workers"), std::string::npos) << e;
+  EXPECT_NE(e.find("integer"), std::string::npos) << e;
+}
+
+TEST(Config, BadChoiceListsTheChoices) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\nwatch = \"fanotify\"\n");
+  EXPECT_NE(e.find("inotify, poll"), std::string::npos) << e;
+}
+
+TEST(Config, KnitSectionIsCheckedToo) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[knit]\nmax_flaot = 3\n");
+  EXPECT_NE(e.find(":4"), std::string::npos) << e;
+  EXPECT_NE(e.find("max_flaot"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[knit]\nsolver = \"simulated-annealing\"\n");
+  EXPECT_NE(e.find("solver"), std::string::npos) << e;
+}
+
+TEST(Config, KnitDefaultsAreKeptForJobs) {
+  Config c = parse_config("[spool]\ndir = \"/s\"\n[knit]\nwidth = 150\n", "a.toml");
+  EXPECT_EQ(c.kind_defaults.at("knit")["width"].value<int64_t>(), 150);
+}
+
+TEST(Config, SyntaxErrorNamesTheLine) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[limits\n");
+  EXPECT_NE(e.find("atelierd.toml:3"), std::string::npos) << e;
+}
+
+TEST(Config, DevicesWithDriversNotInThisBuildAreRefusedNotIgnored) {
+  std::string e = error_of(
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\n"
+      "port = \"/dev/ttyACM0\"\nkinds = [\"knit\"]\n");
+  EXPECT_NE(e.find("knitter"), std::string::npos) << e;
+  EXPECT_NE(e.find("ayab"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"x\"\ndriver = \"ayab\"\nprot = \"/dev/x\"\n");
+  EXPECT_NE(e.find("prot"), std::string::npos) << e;
+}
+
+TEST(Config, SetOverridesParseTomlValuesAndBareWords) {
+  toml::table t;
+  atelier::apply_set(t, "width=90");
+  atelier::apply_set(t, "dither=atkinson");
+  atelier::apply_set(t, "anchoring=false");
+  atelier::apply_set(t, "colors=[\"#ffffff\", \"#000000\"]");
+  EXPECT_EQ(t["width"].value<int64_t>(), 90);
+  EXPECT_EQ(t["dither"].value<std::string>(), "atkinson");
+  EXPECT_EQ(t["anchoring"].value<bool>(), false);
+  EXPECT_TRUE(t["colors"].is_array());
+  EXPECT_THROW(atelier::apply_set(t, "novalue"), ParamError);
+}
