@@ -1,5 +1,7 @@
 #include "tools/ctl_format.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <ctime>
 #include <set>
@@ -133,9 +135,7 @@ std::string scalar_lines(const json& object, const std::vector<std::string>& ord
   for (const auto& [key, value] : lines) width = std::max(width, key.size());
   std::string out;
   for (const auto& [key, value] : lines) {
-    out += key + ":" + std::string(width - key.size() + 1, ' ') + value;
-    while (!out.empty() && out.back() == ' ') out.pop_back();
-    out += "\n";
+    out += key + ":" + std::string(width - key.size() + 1, ' ') + or_dash(value) + "\n";
   }
   return out;
 }
