@@ -13,6 +13,7 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -26,6 +27,7 @@ struct ChartInfo {
   std::string solver;
   std::array<Rgb, 2> colors{};  // background, contrast
   std::array<std::string, 2> color_names{};  // "#rrggbb" as configured
+  std::function<void(double)> progress;      // fraction of pages written; may be empty
 };
 
 // `grid`: CV_8UC1, 1 = contrast, row 0 = top of the picture. Returns the number of pages.

@@ -164,6 +164,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   chart.solver = p.solver;
   chart.colors = p.rgb;
   chart.color_names = p.colors;
+  chart.progress = [&req](double f) { report_progress(req, 0.85 + 0.1 * f); };
   int pages = 0;
   try {
     pages = write_chart_pdf(grid, chart, out / "chart.pdf");
