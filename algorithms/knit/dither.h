@@ -26,6 +26,8 @@ Dither resolve_dither(Dither d, const cv::Mat& gray);
 // Dithers `gray` (CV_8UC1) into a 0/1 grid of the same size. `threshold` (0..255) is used
 // by the threshold method and as the error-diffusion threshold. `automatic` must be resolved
 // first (throws std::invalid_argument otherwise). Ordered dithering uses an 8x8 Bayer matrix.
+// (For ordered dithering `threshold` shifts the matrix like a brightness control; 128 is
+// neutral: a uniform grey g gets about (255 - g) / 255 dark stitches.)
 cv::Mat dither(const cv::Mat& gray, Dither method, int threshold = 128);
 
 }  // namespace atelier::knit

@@ -33,6 +33,9 @@ struct SolverParams {
   int rw_n = 100;   // Random Walk: variables checked per round
   int rw_q = 5;     // Random Walk: stop when fewer than q of the n are conflicting
   int rw_m = 4;     // Random Walk: flip only when violations drop by at least m
+  // Random Walk also stops when no violations are left, when its last 8 rounds flipped fewer
+  // than 8 stitches (no flip repairs m any more), or after drawing as many stitches as the
+  // grid holds. Requires n >= 1, 0 <= q <= n, m >= 1 (std::invalid_argument otherwise).
   // Called now and then with a fraction in [0, 1]; may be empty. Not called concurrently.
   std::function<void(double)> progress;
 };
