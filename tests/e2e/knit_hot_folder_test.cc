@@ -128,7 +128,7 @@ TEST(E2EKnit, BadInputsFailWithAReasonAndTheDaemonKeepsServing) {
   atelier::test::drop_file(atelier::test::test_image("pic1.png"),
                            daemon.spool() / "incoming" / "pottery" / "vase.png");
 
-  ASSERT_TRUE(daemon.wait_settled(9)) << daemon.log();
+  ASSERT_TRUE(daemon.wait_settled(8)) << daemon.log();
   auto jobs = by_name(daemon.jobs());
   const std::map<std::string, std::vector<std::string>> expected = {
       {"truncated.jpg", {"truncated.jpg", "truncated"}},
