@@ -133,6 +133,9 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {ConversionOutcome::Status::ok, ""};
   std::string message = trim(err_text);
   if (message.rfind("error: ", 0) == 0) message.erase(0, 7);
+  // The job folder moves to failed/ afterwards: name files by their own name only.
+  const std::string prefix = task.output_dir.string() + "/";
+  for (size_t at; (at = message.find(prefix)) != std::string::npos;) message.erase(at, prefix.size());
   if (WIFSIGNALED(status)) {
     message = "the converter stopped with signal " + std::to_string(WTERMSIG(status)) +
               (WTERMSIG(status) == SIGKILL || WTERMSIG(status) == SIGSEGV

@@ -155,7 +155,7 @@ TEST(E2EKnit, BadInputsFailWithAReasonAndTheDaemonKeepsServing) {
   }
   // Still serving: a good image after all that completes.
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), in / "pic1.png");
-  ASSERT_TRUE(daemon.wait_settled(10)) << daemon.log();
+  ASSERT_TRUE(daemon.wait_settled(9)) << daemon.log();
   EXPECT_EQ(by_name(daemon.jobs()).at("pic1.png")["state"], "completed");
   EXPECT_EQ(daemon.stop(SIGTERM), 0);
 }

@@ -92,7 +92,7 @@ TEST_F(ImageInputTest, ProbesRealImagesOfEveryTestFormat) {
 TEST_F(ImageInputTest, ProbesFormatsWrittenByOpenCV) {
   cv::Mat img(37, 53, CV_8UC3, cv::Scalar(10, 200, 30));
   cv::Mat gray(37, 53, CV_8UC1, cv::Scalar(90));
-  for (const char* ext : {".bmp", ".tiff", ".ppm", ".pgm", ".webp", ".png", ".jpg"}) {
+  for (const char* ext : {".bmp", ".tiff", ".pnm", ".pgm", ".webp", ".png", ".jpg"}) {
     if (!cv::haveImageWriter(std::string("x") + ext)) continue;  // e.g. a build without WebP
     std::vector<unsigned char> bytes;
     ASSERT_TRUE(cv::imencode(ext, std::string(ext) == ".pgm" ? gray : img, bytes)) << ext;
