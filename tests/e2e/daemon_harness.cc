@@ -109,7 +109,12 @@ void DaemonProcess::start() {
   sigemptyset(&none);
   posix_spawnattr_setsigmask(&attr, &none);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
-  if (posix_spawn(&pid_, exe.c_str(), &fa, &attr, args, environ) != 0)
+  std::vector<std::string> env_text = env_;
+  for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
+  std::vector<char*> envp;
+  for (auto& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  if (posix_spawn(&pid_, exe.c_str(), &fa, &attr, args, envp.data()) != 0)
     throw std::runtime_error("cannot start " + exe);
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);

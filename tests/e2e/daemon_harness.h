@@ -48,6 +48,9 @@ class DaemonProcess {
   ~DaemonProcess();  // SIGKILLs a daemon still running
 
   void start();                 // waits until the control socket answers
+  // Extra environment ("NAME=value") for the next start(), e.g. NOTIFY_SOCKET.
+  void set_env(std::vector<std::string> env) { env_ = std::move(env); }
+  pid_t pid() const { return pid_; }
   int stop(int signal = 15);    // sends `signal`, waits, returns exit code (-signal if killed)
   bool running() const { return pid_ > 0; }
 
@@ -70,6 +73,7 @@ class DaemonProcess {
  private:
   std::filesystem::path root_;
   pid_t pid_ = -1;
+  std::vector<std::string> env_;
 };
 
 }  // namespace atelier::test
