@@ -1,0 +1,110 @@
+// The AYAB serial API v6 messages (../shared/protocols/ayab-v6.md): byte layouts for both
+// directions, so the host driver and the firmware emulator share one definition.
+// Messages carrying a CRC (reqInit, reqStart, cnfLine) get it appended by encode() and
+// checked by decode(). Pure, thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "drivers/ayab/slip.h"
+
+namespace atelier::ayab {
+
+constexpr uint8_t kApiVersion = 6;
+
+enum class MsgId : uint8_t {
+  reqStart = 0x01, cnfStart = 0xC1,
+  reqLine = 0x82, cnfLine = 0x42,
+  reqInfo = 0x03, cnfInfo = 0xC3,
+  reqTest = 0x04, cnfTest = 0xC4,
+  reqInit = 0x05, cnfInit = 0xC5,
+  indState = 0x84,
+  debug = 0x9F,
+  testRes = 0xEE,
+};
+
+enum class MachineType : uint8_t { kh910 = 0, kh930 = 1, kh270 = 2 };
+int needle_count(MachineType m);        // 200, 200, 112
+int line_bytes(MachineType m);          // 25, 25, 14
+int end_of_line_offset(MachineType m);  // needles past the working range before reqLine: 12 / 6
+std::optional<MachineType> machine_from_name(const std::string& name);  // "kh910", "kh930", "kh270"
+std::string machine_name(MachineType m);
+
+enum class FsmState : uint8_t { wait_for_machine = 0, init = 1, ready = 2, knit = 3, test = 4, error = 5 };
+enum class Carriage : uint8_t { knit = 0, lace = 1, garter = 2, none = 0xFF };
+enum class Direction : uint8_t { left = 0, right = 1, unknown = 0xFF };
+
+// Error codes of the firmware.
+namespace err {
+constexpr uint8_t success = 0x00;
+constexpr uint8_t too_short = 0x01;  // 0x01..0x04: malformed message
+constexpr uint8_t bad_id = 0x02;
+constexpr uint8_t bad_crc = 0x03;
+constexpr uint8_t bad_argument = 0x10;    // 0x10..0x13
+constexpr uint8_t not_initialised = 0x20; // 0x20..0x23
+constexpr uint8_t wrong_state = 0xE0;     // 0xE0..0xEF
+constexpr uint8_t generic = 0xF0;
+}  // namespace err
+std::string error_text(uint8_t code);  // "wrong machine state (0xe0)" etc.
+
+struct ReqInfo {};
+struct CnfInfo {
+  uint8_t api = kApiVersion;
+  uint8_t fw_major = 1, fw_minor = 0, fw_patch = 0;
+  std::string suffix;  // up to 16 characters (17 bytes with the NUL)
+};
+struct ReqInit { MachineType machine = MachineType::kh930; };
+struct CnfInit { uint8_t error = err::success; };
+struct IndState {
+  uint8_t error = err::success;  // 0 = ready
+  FsmState state = FsmState::init;
+  uint16_t hall_left = 0, hall_right = 0;
+  Carriage carriage = Carriage::none;
+  uint8_t position = 0;  // needle the carriage is at
+  Direction direction = Direction::unknown;
+};
+struct ReqStart {
+  uint8_t start_needle = 0, stop_needle = 199;
+  bool continuous_reporting = false;
+  bool beeper = true;
+};
+struct CnfStart { uint8_t error = err::success; };
+struct ReqLine {
+  uint8_t line = 0;  // line number modulo 256
+  uint8_t error = err::success;
+};
+struct CnfLine {
+  uint8_t line = 0;
+  uint8_t colour = 0;
+  bool last_line = false;
+  Bytes needles;  // line_bytes(machine) bytes; needle i = bit (i & 7) of byte (i >> 3)
+};
+struct ReqTest {};
+struct CnfTest { uint8_t error = err::success; };
+struct Debug { std::string text; };
+struct TestRes { std::string text; };
+
+using Message = std::variant<ReqInfo, CnfInfo, ReqInit, CnfInit, IndState, ReqStart, CnfStart,
+                             ReqLine, CnfLine, ReqTest, CnfTest, Debug, TestRes>;
+
+// The unframed message bytes (id first; CRC last where the message has one).
+Bytes encode(const Message& m);
+
+struct DecodeResult {
+  std::optional<Message> message;
+  uint8_t error = err::success;  // too_short, bad_id or bad_crc when message is empty
+};
+// `line_bytes` tells how much needle data a cnfLine carries (it is not in the message).
+DecodeResult decode(const Bytes& packet, int line_bytes);
+
+std::string describe(const Message& m);  // e.g. "reqLine(12)", for logs and errors
+
+// Needle bitmap helpers: bit set = needle selected.
+bool needle_selected(const Bytes& data, int needle);
+void select_needle(Bytes& data, int needle, bool on);
+
+}  // namespace atelier::ayab

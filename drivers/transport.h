@@ -1,0 +1,34 @@
+// The Transport seam: a byte link to a machine (serial port, pseudo-terminal, or an
+// in-memory pair in tests). Drivers speak protocols over it and never touch the OS directly.
+//
+// Threading: one reader and one writer thread may use a transport at once; close() may be
+// called from any thread and wakes a blocked read. Errors: a lost link (unplugged cable,
+// closed peer) throws LinkLost from read/write; a read that times out returns 0 bytes.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+
+namespace atelier {
+
+class LinkLost : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  // Writes all `size` bytes (blocking until queued to the device). Throws LinkLost.
+  virtual void write(const uint8_t* data, size_t size) = 0;
+  // Reads up to `max` bytes, waiting at most `timeout` for the first. Returns the count
+  // (0 on timeout). Throws LinkLost when the link is gone.
+  virtual size_t read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) = 0;
+  // Discards unread input (e.g. boot noise after an Arduino reset).
+  virtual void flush_input() = 0;
+  virtual void close() = 0;
+};
+
+}  // namespace atelier
