@@ -98,8 +98,10 @@ Bytes encode(const Message& m) {
           [](const CnfStart& c) { return Bytes{0xC1, c.error}; },
           [](const ReqLine& r) { return Bytes{0x82, r.line, r.error}; },
           [](const CnfLine& c) {
-            Bytes b = {0x42, c.line, c.colour, static_cast<uint8_t>(c.last_line ? 1 : 0)};
-            b.insert(b.end(), c.needles.begin(), c.needles.end());
+            Bytes b;
+            b.reserve(5 + c.needles.size());
+            for (uint8_t v : {uint8_t{0x42}, c.line, c.colour, uint8_t(c.last_line ? 1 : 0)}) b.push_back(v);
+            for (uint8_t v : c.needles) b.push_back(v);
             with_crc(b);
             return b;
           },
@@ -107,13 +109,13 @@ Bytes encode(const Message& m) {
           [](const CnfTest& c) { return Bytes{0xC4, c.error}; },
           [](const Debug& d) {
             Bytes b = {0x9F};
-            b.insert(b.end(), d.text.begin(), d.text.end());
+            for (char ch : d.text) b.push_back(static_cast<uint8_t>(ch));
             b.push_back(0);
             return b;
           },
           [](const TestRes& t) {
             Bytes b = {0xEE};
-            b.insert(b.end(), t.text.begin(), t.text.end());
+            for (char ch : t.text) b.push_back(static_cast<uint8_t>(ch));
             b.push_back(0);
             return b;
           },
