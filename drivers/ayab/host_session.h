@@ -1,0 +1,66 @@
+// The host side of an AYAB v6 session (../shared/protocols/ayab-v6.md "Session"): info with
+// API check, init, wait for ready, start, answering every reqLine with 256-row block
+// tracking and re-send on timeout, the blank last line, and a final reqInfo.
+//
+// Threading: one HostSession per transport, used from one thread (the device worker).
+// Errors: LinkLost (from the transport) when the machine goes away; AyabError for protocol
+// failures (API mismatch, firmware errors, out-of-sequence requests, timeouts) with a
+// user-facing message.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "drivers/ayab/knit_plan.h"
+#include "drivers/ayab/messages.h"
+#include "drivers/transport.h"
+
+namespace atelier::ayab {
+
+class AyabError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct SessionTimeouts {
+  std::chrono::milliseconds boot{5000};        // first cnfInfo after opening (Arduino reset ~2 s)
+  std::chrono::milliseconds info_retry{100};   // reqInfo repeat interval while booting
+  std::chrono::milliseconds reply{1000};       // cnfInit / cnfStart
+  std::chrono::milliseconds ready{0};          // indState ready after init; 0 = wait forever
+  std::chrono::milliseconds line_resend{500};  // no next reqLine this long: re-send the cnfLine
+  std::chrono::milliseconds silent{10000};     // nothing at all from the machine this long: fail
+};
+
+struct KnitProgress {
+  int passes_done = 0;   // carriage passes confirmed knitted
+  int passes_total = 0;
+};
+
+class HostSession {
+ public:
+  HostSession(Transport& link, SessionTimeouts timeouts = {});
+
+  // reqInfo until cnfInfo (tolerating the boot delay); throws AyabError for api < 6.
+  CnfInfo connect();
+  // reqInit(machine) until cnfInit; then waits for indState ready (carriage past a turn mark).
+  void init(MachineType machine);
+  // Knits plan.passes[from_pass ...]: reqStart with the plan's needle range, then answers each
+  // reqLine. `on_pass` is called after each pass the firmware has confirmed by asking for the
+  // next line. When `cancel` becomes true the session answers the next request with the blank
+  // last line (the machine ends cleanly) and returns early. Returns the passes done in total
+  // (from_pass + knitted now). Ends with the blank last line and a final reqInfo/cnfInfo.
+  int knit(const KnitPlan& plan, int from_pass, const std::function<void(const KnitProgress&)>& on_pass,
+           const std::atomic<bool>& cancel);
+
+  // Every message received (for logs/tests): last indState seen.
+  const IndState& last_state() const { return last_state_; }
+
+ private:
+  Transport& link_;
+  SessionTimeouts timeouts_;
+  IndState last_state_;
+};
+
+}  // namespace atelier::ayab
