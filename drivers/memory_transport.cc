@@ -1,0 +1,61 @@
+#include "drivers/memory_transport.h"
+
+#include <algorithm>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+
+namespace atelier {
+
+struct MemoryTransport::Shared {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<uint8_t> input[2];  // input[i]: bytes waiting to be read by end i
+  bool lost = false;
+};
+
+MemoryTransport::MemoryTransport(std::shared_ptr<Shared> shared, int side)
+    : shared_(std::move(shared)), side_(side) {}
+
+void MemoryTransport::write(const uint8_t* data, size_t size) {
+  std::lock_guard lock(shared_->mutex);
+  if (shared_->lost) throw LinkLost("memory link: disconnected");
+  auto& peer = shared_->input[1 - side_];
+  peer.insert(peer.end(), data, data + size);
+  shared_->changed.notify_all();
+}
+
+size_t MemoryTransport::read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) {
+  std::unique_lock lock(shared_->mutex);
+  auto& in = shared_->input[side_];
+  shared_->changed.wait_for(lock, timeout, [&] { return shared_->lost || !in.empty(); });
+  // Bytes already delivered stay readable only while the link is up: an unplugged cable
+  // loses what was in flight, which is what the session must cope with.
+  if (shared_->lost) throw LinkLost("memory link: disconnected");
+  const size_t n = std::min(max, in.size());
+  for (size_t i = 0; i < n; ++i) {
+    data[i] = in.front();
+    in.pop_front();
+  }
+  return n;
+}
+
+void MemoryTransport::flush_input() {
+  std::lock_guard lock(shared_->mutex);
+  shared_->input[side_].clear();
+}
+
+void MemoryTransport::close() { disconnect(); }
+
+void MemoryTransport::disconnect() {
+  std::lock_guard lock(shared_->mutex);
+  shared_->lost = true;
+  shared_->changed.notify_all();
+}
+
+std::pair<std::unique_ptr<MemoryTransport>, std::unique_ptr<MemoryTransport>> make_memory_pair() {
+  auto shared = std::make_shared<MemoryTransport::Shared>();
+  return {std::make_unique<MemoryTransport>(shared, 0), std::make_unique<MemoryTransport>(shared, 1)};
+}
+
+}  // namespace atelier

@@ -1,0 +1,37 @@
+// An in-memory Transport pair for tests: bytes written to one end are read from the other.
+// disconnect() simulates pulling the cable: both ends then throw LinkLost from read/write.
+//
+// Threading: each end may be read by one thread and written by another; disconnect() and
+// close() may be called from any thread and wake blocked readers. Ownership: the two ends
+// share the queues; either may outlive the other.
+#pragma once
+
+#include <memory>
+#include <utility>
+
+#include "drivers/transport.h"
+
+namespace atelier {
+
+class MemoryTransport : public Transport {
+ public:
+  struct Shared;  // queues, mutex and condition variable shared by both ends
+  MemoryTransport(std::shared_ptr<Shared> shared, int side);
+
+  void write(const uint8_t* data, size_t size) override;
+  size_t read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) override;
+  void flush_input() override;
+  // Closes this end: its blocked read wakes and throws LinkLost; the peer sees the link lost.
+  void close() override;
+  // Simulates unplugging: both ends throw LinkLost from now on.
+  void disconnect();
+
+ private:
+  std::shared_ptr<Shared> shared_;
+  int side_;  // 0 or 1: index of this end's input queue
+};
+
+// Two connected ends (first <-> second).
+std::pair<std::unique_ptr<MemoryTransport>, std::unique_ptr<MemoryTransport>> make_memory_pair();
+
+}  // namespace atelier

@@ -1,0 +1,191 @@
+#include "drivers/serial_transport.h"
+
+#include <fcntl.h>
+#include <libserialport.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+
+namespace atelier {
+namespace {
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+// Opens and configures a port libserialport knows; returns null (and the fd untouched) when
+// libserialport cannot describe the port (pseudo-terminals), throws when the port is busy.
+sp_port* open_with_libserialport(const std::string& path, const std::string& real, int& fd) {
+  sp_port* port = nullptr;
+  if (sp_get_port_by_name(real.c_str(), &port) != SP_OK) return nullptr;
+  if (sp_open(port, SP_MODE_READ_WRITE) != SP_OK) {
+    const int e = errno;
+    const std::string why = sp_last_error_message();
+    sp_free_port(port);
+    if (e == EBUSY) throw std::runtime_error(path + ": serial port is busy (opened by another program)");
+    if (e == ENOENT || e == ENODEV || e == ENXIO) throw LinkLost(path + ": " + errno_text(e));
+    throw std::runtime_error(path + ": cannot open serial port: " + why);
+  }
+  // Set each parameter on its own: sp_set_flowcontrol() would also drive RTS/DTR.
+  if (sp_set_baudrate(port, 115200) != SP_OK || sp_set_bits(port, 8) != SP_OK ||
+      sp_set_parity(port, SP_PARITY_NONE) != SP_OK || sp_set_stopbits(port, 1) != SP_OK ||
+      sp_set_xon_xoff(port, SP_XONXOFF_DISABLED) != SP_OK || sp_set_cts(port, SP_CTS_IGNORE) != SP_OK ||
+      sp_set_dsr(port, SP_DSR_IGNORE) != SP_OK) {
+    const std::string why = sp_last_error_message();
+    sp_close(port);
+    sp_free_port(port);
+    throw std::runtime_error(path + ": cannot configure serial port: " + why);
+  }
+  sp_get_port_handle(port, &fd);
+  return port;
+}
+
+int open_with_termios(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    const int e = errno;
+    if (e == EBUSY) throw std::runtime_error(path + ": serial port is busy (opened by another program)");
+    if (e == ENOENT || e == ENODEV || e == ENXIO || e == EIO) throw LinkLost(path + ": " + errno_text(e));
+    throw std::runtime_error(path + ": cannot open serial port: " + errno_text(e));
+  }
+  termios t{};
+  if (tcgetattr(fd, &t) != 0) {
+    const int e = errno;
+    ::close(fd);
+    throw std::runtime_error(path + ": not a serial port: " + errno_text(e));
+  }
+  cfmakeraw(&t);
+  cfsetispeed(&t, B115200);
+  cfsetospeed(&t, B115200);
+  t.c_cflag &= ~static_cast<tcflag_t>(CSTOPB | PARENB | CRTSCTS | CSIZE);
+  t.c_cflag |= CS8 | CLOCAL | CREAD;
+  t.c_iflag &= ~static_cast<tcflag_t>(IXON | IXOFF | IXANY);
+  if (tcsetattr(fd, TCSANOW, &t) != 0) {
+    const int e = errno;
+    ::close(fd);
+    throw std::runtime_error(path + ": cannot configure serial port: " + errno_text(e));
+  }
+  return fd;
+}
+
+}  // namespace
+
+std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw LinkLost(path + ": " + errno_text(errno));
+  char resolved[PATH_MAX];
+  const std::string real = ::realpath(path.c_str(), resolved) ? resolved : path;
+
+  int fd = -1;
+  sp_port* port = open_with_libserialport(path, real, fd);
+  if (!port) fd = open_with_termios(path);
+  auto release = [&] {
+    if (port) {
+      sp_close(port);
+      sp_free_port(port);
+    } else {
+      ::close(fd);
+    }
+  };
+  // Exclusive use: a second opener (other than root) gets EBUSY while we hold the port.
+  if (ioctl(fd, TIOCEXCL) != 0) {
+    const int e = errno;
+    release();
+    throw std::runtime_error(path + ": cannot lock serial port: " + errno_text(e));
+  }
+  const int flags = fcntl(fd, F_GETFL);
+  fcntl(fd, F_SETFL, flags | O_NONBLOCK);
+  const int wake = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  if (wake < 0) {
+    const int e = errno;
+    release();
+    throw std::runtime_error(path + ": eventfd: " + errno_text(e));
+  }
+  return std::unique_ptr<SerialTransport>(new SerialTransport(path, fd, port, wake));
+}
+
+SerialTransport::SerialTransport(std::string path, int fd, sp_port* port, int wake_fd)
+    : path_(std::move(path)), fd_(fd), port_(port), wake_fd_(wake_fd) {}
+
+SerialTransport::~SerialTransport() {
+  close();
+  if (port_) {
+    sp_close(port_);
+    sp_free_port(port_);
+  } else {
+    ::close(fd_);
+  }
+  ::close(wake_fd_);
+}
+
+void SerialTransport::lost(const std::string& why) const { throw LinkLost(path_ + ": " + why); }
+
+void SerialTransport::write(const uint8_t* data, size_t size) {
+  size_t done = 0;
+  while (done < size) {
+    if (closed_) lost("closed");
+    const ssize_t n = ::write(fd_, data + done, size - done);
+    if (n > 0) {
+      done += static_cast<size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && errno == EAGAIN) {
+      pollfd p[2] = {{fd_, POLLOUT, 0}, {wake_fd_, POLLIN, 0}};
+      if (poll(p, 2, 1000) < 0 && errno != EINTR) lost(std::string("poll: ") + errno_text(errno));
+      if (p[0].revents & (POLLHUP | POLLERR)) lost("device disconnected");
+      continue;
+    }
+    lost(n < 0 ? errno_text(errno) : "write returned 0");
+  }
+}
+
+size_t SerialTransport::read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    if (closed_) lost("closed");
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    pollfd p[2] = {{fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
+    const int ready = poll(p, 2, static_cast<int>(std::max<int64_t>(0, left.count())));
+    if (ready < 0) {
+      if (errno == EINTR) continue;
+      lost(std::string("poll: ") + errno_text(errno));
+    }
+    if (closed_ || (p[1].revents & POLLIN)) lost("closed");
+    if (p[0].revents & POLLNVAL) lost("port closed");
+    if (p[0].revents & (POLLIN | POLLHUP | POLLERR)) {
+      // Read even on HUP: bytes sent just before the peer went away are still delivered.
+      const ssize_t n = ::read(fd_, data, max);
+      if (n > 0) return static_cast<size_t>(n);
+      if (n == 0) lost("device disconnected (end of file)");
+      if (errno == EINTR || errno == EAGAIN) {
+        if (p[0].revents & (POLLHUP | POLLERR)) lost("device disconnected");
+        continue;
+      }
+      lost(errno == EIO ? std::string("device disconnected (I/O error)") : errno_text(errno));
+    }
+    if (ready == 0 && std::chrono::steady_clock::now() >= deadline) return 0;
+  }
+}
+
+void SerialTransport::flush_input() {
+  if (closed_) lost("closed");
+  tcflush(fd_, TCIFLUSH);
+}
+
+void SerialTransport::close() {
+  if (closed_.exchange(true)) return;
+  const uint64_t one = 1;
+  [[maybe_unused]] const ssize_t w = ::write(wake_fd_, &one, sizeof one);
+  // Give up exclusivity now so the port can be reopened (e.g. after a replug); the fd itself
+  // stays open until destruction so a reader still in poll() never touches a reused number.
+  ioctl(fd_, TIOCNXCL);
+}
+
+}  // namespace atelier
