@@ -10,7 +10,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "drivers/ayab/knit_plan.h"
@@ -58,9 +60,17 @@ class HostSession {
   const IndState& last_state() const { return last_state_; }
 
  private:
+  using Clock = std::chrono::steady_clock;
+  void send(const Message& m);
+  // The next valid message, or nullopt once `deadline` passes. Records indState.
+  std::optional<Message> receive(Clock::time_point deadline);
+
   Transport& link_;
   SessionTimeouts timeouts_;
   IndState last_state_;
+  SlipDecoder decoder_;           // one byte stream across connect/init/knit
+  std::deque<Message> pending_;   // decoded, not yet consumed
+  int line_bytes_ = 25;           // needle data bytes of the machine given to init()
 };
 
 }  // namespace atelier::ayab

@@ -1,0 +1,207 @@
+#include "drivers/ayab/host_session.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "drivers/ayab/line_tracker.h"
+
+namespace atelier::ayab {
+namespace {
+
+using std::chrono::milliseconds;
+
+// "5 s", "1.5 s".
+std::string seconds_text(milliseconds ms) {
+  char buf[32];
+  if (ms.count() % 1000 == 0) std::snprintf(buf, sizeof buf, "%lld s", static_cast<long long>(ms.count() / 1000));
+  else std::snprintf(buf, sizeof buf, "%.1f s", static_cast<double>(ms.count()) / 1000.0);
+  return buf;
+}
+
+std::string version_text(const CnfInfo& c) {
+  return std::to_string(c.fw_major) + "." + std::to_string(c.fw_minor) + "." + std::to_string(c.fw_patch);
+}
+
+// Upper bound of one blocking read, so "wait forever" never overflows a deadline.
+constexpr milliseconds kReadSlice{1000};
+
+}  // namespace
+
+HostSession::HostSession(Transport& link, SessionTimeouts timeouts) : link_(link), timeouts_(timeouts) {}
+
+void HostSession::send(const Message& m) {
+  const Bytes frame = slip_encode(encode(m));
+  link_.write(frame.data(), frame.size());
+}
+
+std::optional<Message> HostSession::receive(Clock::time_point deadline) {
+  uint8_t buf[256];
+  for (;;) {
+    if (!pending_.empty()) {
+      Message m = std::move(pending_.front());
+      pending_.pop_front();
+      if (const auto* s = std::get_if<IndState>(&m)) last_state_ = *s;
+      return m;
+    }
+    const auto now = Clock::now();
+    if (now >= deadline) return std::nullopt;
+    const auto left = std::min<Clock::duration>(deadline - now, kReadSlice);
+    const size_t n = link_.read(buf, sizeof buf, std::chrono::ceil<milliseconds>(left));
+    for (const Bytes& packet : decoder_.feed(buf, n)) {
+      // Garbled packets (line noise, bad CRC) are dropped; timeouts and re-sends recover.
+      DecodeResult r = decode(packet, line_bytes_);
+      if (r.message) pending_.push_back(std::move(*r.message));
+    }
+  }
+}
+
+CnfInfo HostSession::connect() {
+  link_.flush_input();
+  decoder_ = SlipDecoder();
+  pending_.clear();
+  const auto deadline = Clock::now() + timeouts_.boot;
+  // An Arduino resets when the port opens and ignores us for ~2 s: ask again and again.
+  while (Clock::now() < deadline) {
+    send(ReqInfo{});
+    const auto retry = std::min(Clock::now() + timeouts_.info_retry, deadline);
+    while (auto m = receive(retry)) {
+      const auto* info = std::get_if<CnfInfo>(&*m);
+      if (!info) continue;
+      if (info->api < kApiVersion)
+        throw AyabError("the knitting machine's AYAB firmware " + version_text(*info) + " speaks API v" +
+                        std::to_string(info->api) + ", but atelier needs API v" + std::to_string(kApiVersion) +
+                        " (AYAB firmware 1.0 or later): update the firmware");
+      return *info;
+    }
+  }
+  throw AyabError("no answer from the knitting machine within " + seconds_text(timeouts_.boot) +
+                  ": check the cable and that the AYAB firmware is installed");
+}
+
+void HostSession::init(MachineType machine) {
+  line_bytes_ = line_bytes(machine);
+  const auto give_up = Clock::now() + timeouts_.silent;
+  bool confirmed = false;
+  while (!confirmed) {
+    if (Clock::now() >= give_up)
+      throw AyabError("the knitting machine did not confirm initialisation as " + machine_name(machine) +
+                      " within " + seconds_text(timeouts_.silent));
+    send(ReqInit{machine});
+    const auto retry = std::min(Clock::now() + timeouts_.reply, give_up);
+    while (auto m = receive(retry)) {
+      const auto* c = std::get_if<CnfInit>(&*m);
+      if (!c) continue;
+      if (c->error != err::success)
+        throw AyabError("the knitting machine refused initialisation as " + machine_name(machine) + ": " +
+                        error_text(c->error));
+      confirmed = true;
+      break;
+    }
+  }
+  // The carriage must pass a turn mark; a person does that, so the wait may be long.
+  // Firmware versions differ in the state they report with it (init or ready): error 0 counts.
+  const auto deadline = timeouts_.ready.count() == 0 ? Clock::time_point::max() : Clock::now() + timeouts_.ready;
+  while (auto m = receive(deadline)) {
+    const auto* s = std::get_if<IndState>(&*m);
+    if (s && s->error == err::success && (s->state == FsmState::ready || s->state == FsmState::init)) return;
+  }
+  throw AyabError("the knitting machine did not become ready within " + seconds_text(timeouts_.ready) +
+                  ": move the carriage across the turn mark");
+}
+
+int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<void(const KnitProgress&)>& on_pass,
+                      const std::atomic<bool>& cancel) {
+  const int total = static_cast<int>(plan.passes.size());
+  if (from_pass < 0 || from_pass > total)
+    throw std::invalid_argument("knit: from_pass " + std::to_string(from_pass) + " outside 0.." + std::to_string(total));
+  const int per_row = std::max(1, plan.passes_per_row);
+  line_bytes_ = line_bytes(plan.machine);
+
+  send(ReqStart{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false, true});
+  const auto start_deadline = Clock::now() + timeouts_.reply;
+  for (bool started = false; !started;) {
+    auto m = receive(start_deadline);
+    if (!m)
+      throw AyabError("the knitting machine did not answer the start request within " + seconds_text(timeouts_.reply));
+    if (const auto* c = std::get_if<CnfStart>(&*m)) {
+      if (c->error != err::success)
+        throw AyabError("the knitting machine refused to start knitting needles " + std::to_string(plan.start_needle) +
+                        ".." + std::to_string(plan.stop_needle) + ": " + error_text(c->error));
+      started = true;
+    } else if (std::holds_alternative<ReqLine>(*m)) {
+      pending_.push_front(std::move(*m));  // cnfStart lost, but the machine is knitting: go on
+      started = true;
+    }
+  }
+
+  LineTracker tracker;
+  int done = from_pass;
+  std::optional<CnfLine> last_sent;
+  bool ended = false;  // blank last line sent
+  auto last_rx = Clock::now();
+  auto last_tx = last_rx;
+  while (!ended) {
+    const auto silent_at = last_rx + timeouts_.silent;
+    const auto deadline = last_sent ? std::min(silent_at, last_tx + timeouts_.line_resend) : silent_at;
+    auto m = receive(deadline);
+    const auto now = Clock::now();
+    if (!m) {
+      if (now >= silent_at)
+        throw AyabError("the knitting machine went silent after row " + std::to_string(done / per_row));
+      // A cnfLine with a bad CRC is dropped without a word: say it again.
+      send(*last_sent);
+      last_tx = now;
+      continue;
+    }
+    last_rx = now;
+    const auto* req = std::get_if<ReqLine>(&*m);
+    if (!req) continue;  // indState, debug, stray confirmations
+    if (req->error != err::success)
+      throw AyabError("the knitting machine reported " + error_text(req->error) + " when asking for line " +
+                      std::to_string(req->line));
+    const LineTracker::Result r = tracker.on_request(req->line);
+    if (r.kind == LineTracker::Kind::out_of_sequence)
+      throw AyabError("machine asked for line " + std::to_string(req->line) + ", expected " +
+                      std::to_string(r.line & 0xFF));
+    if (r.kind == LineTracker::Kind::repeat) {
+      send(*last_sent);  // the firmware did not take our answer (e.g. wrong line number)
+      last_tx = now;
+      continue;
+    }
+    // Asking for line k confirms that lines 0..k-1 of this session were knitted.
+    if (r.line > 0) {
+      done = from_pass + r.line;
+      if (on_pass) on_pass(KnitProgress{done, total});
+    }
+    const int pass = from_pass + r.line;
+    CnfLine line;
+    line.line = static_cast<uint8_t>(r.line & 0xFF);
+    if (pass >= total || cancel.load()) {
+      line.last_line = true;  // blank: all needles unselected; the machine ends cleanly
+      line.needles.assign(static_cast<size_t>(line_bytes_), 0);
+      ended = true;
+    } else {
+      line.colour = plan.colour[static_cast<size_t>(pass)];
+      line.needles = plan.passes[static_cast<size_t>(pass)];
+    }
+    send(line);
+    last_sent = line;
+    last_tx = now;
+  }
+
+  // reqInfo answered means the firmware has read everything before it, the last line included.
+  const auto end_deadline = Clock::now() + timeouts_.reply;
+  while (Clock::now() < end_deadline) {
+    send(ReqInfo{});
+    const auto retry = std::min(Clock::now() + timeouts_.info_retry, end_deadline);
+    while (auto m = receive(retry)) {
+      if (std::holds_alternative<CnfInfo>(*m)) return done;
+      const auto* req = std::get_if<ReqLine>(&*m);
+      if (req && req->line == last_sent->line) send(*last_sent);  // asked again for the last line
+    }
+  }
+  throw AyabError("the knitting machine did not confirm the end of knitting within " + seconds_text(timeouts_.reply));
+}
+
+}  // namespace atelier::ayab
