@@ -10,9 +10,9 @@
 namespace atelier {
 namespace {
 
-// Drivers this build can run. The ayab, grbl and file-drop drivers arrive with their issues;
-// until then a [[device]] naming them is refused rather than silently ignored.
-const std::vector<std::string> kAvailableDrivers = {};
+// Drivers this build can run. The grbl and file-drop drivers arrive with their issues; until
+// then a [[device]] naming them is refused rather than silently ignored.
+const std::vector<std::string> kAvailableDrivers = {"ayab"};
 
 DeviceConfig read_device(const toml::table& t, const std::string& source, size_t index) {
   TableReader r(t, source, "device[" + std::to_string(index) + "]");
@@ -22,12 +22,24 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   d.driver = r.get_choice("driver", "", {"ayab", "grbl", "file-drop"});
   d.port = r.get_string("port", "");
   d.usb = r.get_string("usb", "");
-  d.machine = r.get_string("machine", "");
-  d.kinds = r.get_string_list("kinds", {});
-  d.autostart = r.get_bool("autostart", false);
+  const bool knitter = d.driver == "ayab";
+  d.machine = knitter ? r.get_choice("machine", "kh930", {"kh910", "kh930", "kh270"})
+                      : r.get_string("machine", "");
+  d.kinds = r.get_string_list("kinds", knitter ? std::vector<std::string>{"knit"}
+                                               : std::vector<std::string>{});
+  d.autostart = r.get_bool("autostart", knitter);
   d.dir = r.get_string("dir", "");
   d.formats = r.get_string_list("formats", {});
+  if (knitter) {
+    d.mode = r.get_choice("mode", "single-bed", {"single-bed", "classic-ribber", "circular"});
+    d.start_needle = static_cast<int>(r.get_int("start_needle", -1, -1, 200));
+    if (d.start_needle == 0) r.fail("start_needle", "needles are numbered from 1");
+    d.first_row = r.get_choice("first_row", "top", {"top", "bottom"});
+    d.mirror = r.get_bool("mirror", false);
+  }
   r.finish();
+  if (knitter && d.port.empty() && d.usb.empty())
+    r.fail("name", "device '" + d.name + "' needs port = \"/dev/ttyACM0\" or usb = \"2341:0043\"");
   for (const auto& k : d.kinds)
     if (!is_known_kind(k)) r.fail("kinds", "unknown kind '" + k + "'");
   bool available = false;

@@ -24,8 +24,14 @@ struct DeviceConfig {
   std::string machine;               // e.g. "kh930"
   std::vector<std::string> kinds;    // job kinds this device takes
   bool autostart = false;            // a ready job starts without `atelierctl start`
+                                     // (default true for knitting machines, false for lasers)
   std::string dir;                   // file-drop: target folder
   std::vector<std::string> formats;  // file-drop: file formats
+  // ayab: how a pattern is laid on the needle bed (drivers/ayab/knit_plan.h).
+  std::string mode = "single-bed";   // single-bed | classic-ribber | circular
+  int start_needle = -1;             // leftmost needle, 1-based as on the bed; -1 = centred
+  std::string first_row = "top";     // pattern.png row knitted first: top | bottom
+  bool mirror = false;               // pattern column 0 on the rightmost needle instead
 };
 
 struct Config {

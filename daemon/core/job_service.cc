@@ -179,9 +179,10 @@ int64_t JobService::submit(const fs::path& file, const std::string& kind,
 
 fs::path JobService::input_of(const Job& job) const { return fs::path(job.work_dir) / job.name; }
 
-void JobService::transition(int64_t id, JobState to, const std::string& reason) {
+void JobService::transition(int64_t id, JobState to, const std::string& reason,
+                            const std::optional<std::string>& device) {
   auto before = store_.get(id);
-  store_.transition(id, to, reason);
+  store_.transition(id, to, reason, std::nullopt, device);
   if (on_change_ && before)
     on_change_({*store_.get(id), state_name(before->state), state_name(to), reason});
 }

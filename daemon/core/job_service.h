@@ -57,7 +57,8 @@ class JobService {
   std::filesystem::path input_of(const Job& job) const;
 
   // State changes (each one store transaction, then on_change).
-  void transition(int64_t id, JobState to, const std::string& reason);
+  void transition(int64_t id, JobState to, const std::string& reason,
+                  const std::optional<std::string>& device = std::nullopt);
   // Moves work/<id> to done/<id> and marks the job completed (or `to`, e.g. ready).
   void finish_converted(int64_t id, JobState to, const std::string& reason);
   // Writes reason.txt, removes partial outputs, moves work/<id> to failed/<id>, marks the

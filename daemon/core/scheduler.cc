@@ -12,6 +12,12 @@ Scheduler::Scheduler(JobService& jobs, ConversionRunner& runner,
 
 Scheduler::~Scheduler() { stop(); }
 
+void Scheduler::set_device_hooks(std::function<std::string(const std::string&)> device_for_kind,
+                                 std::function<void()> on_ready) {
+  device_for_kind_ = std::move(device_for_kind);
+  on_ready_ = std::move(on_ready);
+}
+
 void Scheduler::start(int workers) {
   std::lock_guard lock(mu_);
   stopping_ = false;
@@ -141,11 +147,19 @@ void Scheduler::convert_one(int64_t id) {
   ConversionOutcome outcome = runner_.run(task, progress, *flag);
   switch (outcome.status) {
     case ConversionOutcome::Status::ok:
+    {
       jobs_.store().set_progress(id, 100, 100);
-      // No device drivers exist yet, so every converted job is complete.
-      jobs_.finish_converted(id, JobState::completed, "converted; no device for kind " + job->kind);
-      log::info("job " + std::to_string(id) + ": completed");
+      const std::string device = device_for_kind_ ? device_for_kind_(job->kind) : "";
+      if (device.empty()) {
+        jobs_.finish_converted(id, JobState::completed, "converted; no device for kind " + job->kind);
+        log::info("job " + std::to_string(id) + ": completed");
+      } else {
+        jobs_.store().set_progress(id, 0, 0);  // device progress (rows) starts now
+        jobs_.finish_converted(id, JobState::ready, "converted; waiting for " + device);
+        if (on_ready_) on_ready_();
+      }
       break;
+    }
     case ConversionOutcome::Status::canceled: {
       bool stopping;
       {

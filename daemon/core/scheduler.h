@@ -28,6 +28,11 @@ class Scheduler {
             std::function<std::shared_ptr<const Config>()> config);
   ~Scheduler();
 
+  // Jobs of a kind that a device takes end `ready` for it instead of `completed`.
+  // `device_for_kind` returns the device's name or ""; `on_ready` wakes the devices.
+  void set_device_hooks(std::function<std::string(const std::string& kind)> device_for_kind,
+                        std::function<void()> on_ready);
+
   void start(int workers);
   void enqueue(int64_t id);
   // Cancels a queued or converting job: it ends `canceled`, its input kept in failed/<id>.
@@ -46,6 +51,8 @@ class Scheduler {
   JobService& jobs_;
   ConversionRunner& runner_;
   std::function<std::shared_ptr<const Config>()> config_;
+  std::function<std::string(const std::string&)> device_for_kind_;
+  std::function<void()> on_ready_;
   mutable std::mutex mu_;
   std::condition_variable cv_;
   std::deque<int64_t> queue_;

@@ -40,6 +40,18 @@ struct CommandResult {
 // Runs a program with arguments (no shell) and collects its output.
 CommandResult run_command(const std::vector<std::string>& argv);
 
+// A background program (e.g. a machine emulator), SIGTERMed and reaped on destruction.
+class BackgroundProcess {
+ public:
+  BackgroundProcess(std::vector<std::string> argv, std::filesystem::path log_file);
+  ~BackgroundProcess();
+  void stop();
+  pid_t pid() const { return pid_; }
+
+ private:
+  pid_t pid_ = -1;
+};
+
 class DaemonProcess {
  public:
   // Writes <root>/atelierd.toml with the spool, store and socket inside `root`, plus

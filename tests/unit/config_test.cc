@@ -90,12 +90,31 @@ TEST(Config, SyntaxErrorNamesTheLine) {
 
 TEST(Config, DevicesWithDriversNotInThisBuildAreRefusedNotIgnored) {
   std::string e = error_of(
-      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\n"
-      "port = \"/dev/ttyACM0\"\nkinds = [\"knit\"]\n");
-  EXPECT_NE(e.find("knitter"), std::string::npos) << e;
-  EXPECT_NE(e.find("ayab"), std::string::npos) << e;
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n"
+      "port = \"/dev/ttyUSB0\"\nkinds = [\"knit\"]\n");
+  EXPECT_NE(e.find("laser"), std::string::npos) << e;
+  EXPECT_NE(e.find("grbl"), std::string::npos) << e;
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"x\"\ndriver = \"ayab\"\nprot = \"/dev/x\"\n");
   EXPECT_NE(e.find("prot"), std::string::npos) << e;
+}
+
+TEST(Config, AKnittingMachineHasDefaultsAndIsChecked) {
+  Config c = parse_config(
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\n"
+      "port = \"/dev/ttyACM0\"\n", "a.toml");
+  ASSERT_EQ(c.devices.size(), 1u);
+  const auto& d = c.devices[0];
+  EXPECT_EQ(d.machine, "kh930");
+  EXPECT_EQ(d.kinds, std::vector<std::string>{"knit"});
+  EXPECT_TRUE(d.autostart);
+  EXPECT_EQ(d.mode, "single-bed");
+  EXPECT_EQ(d.start_needle, -1);
+  EXPECT_EQ(d.first_row, "top");
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n");
+  EXPECT_NE(e.find("port"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n"
+               "port = \"/dev/x\"\nmachine = \"kh999\"\n");
+  EXPECT_NE(e.find("kh930"), std::string::npos) << e;
 }
 
 TEST(Config, SetOverridesParseTomlValuesAndBareWords) {

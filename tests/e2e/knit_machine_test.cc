@@ -1,0 +1,169 @@
+// End to end: atelierd knits real images on the AYAB emulator (a pseudo-terminal), and the
+// emulator's record of what the needles did is compared with pattern.png.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "tests/e2e/daemon_harness.h"
+
+namespace fs = std::filesystem;
+using atelier::test::BackgroundProcess;
+using atelier::test::DaemonProcess;
+using atelier::test::TempDir;
+
+namespace {
+
+struct Rig {
+  TempDir tmp;
+  fs::path link = tmp.path() / "knitter";
+  fs::path record = tmp.path() / "record.txt";
+  std::unique_ptr<BackgroundProcess> emulator;
+  std::unique_ptr<DaemonProcess> daemon;
+
+  Rig(std::vector<std::string> faults, const std::string& knit_toml, int row_ms = 3,
+      const std::string& device_extra = "") {
+    std::vector<std::string> argv = {atelier::test::binary("atelier-knit-emu").string(), "--machine",
+                                     "kh930", "--link", link.string(), "--record", record.string(),
+                                     "--row-ms", std::to_string(row_ms), "--boot-ms", "50"};
+    for (const auto& f : faults) {
+      argv.push_back("--fault");
+      argv.push_back(f);
+    }
+    emulator = std::make_unique<BackgroundProcess>(argv, tmp.path() / "emu.log");
+    for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    daemon = std::make_unique<DaemonProcess>(
+        tmp.path(), knit_toml + "[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\nport = \"" +
+                        link.string() + "\"\nmachine = \"kh930\"\n" + device_extra);
+    daemon->start();
+  }
+
+  nlohmann::json job(const std::string& name) {
+    for (const auto& j : daemon->jobs())
+      if (j["name"] == name) return j;
+    return nullptr;
+  }
+  bool wait_state(const std::string& name, const std::string& state,
+                  std::chrono::milliseconds timeout = std::chrono::seconds(120)) {
+    return daemon->wait_for([&] {
+      auto j = job(name);
+      return !j.is_null() && j["state"] == state;
+    }, timeout);
+  }
+  std::vector<std::string> recorded() const {
+    std::vector<std::string> rows;
+    std::ifstream in(record);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) rows.push_back(line);
+    return rows;
+  }
+};
+
+// pattern.png as the needles should knit it: row 0 first, '1' = contrast (black).
+std::vector<std::string> expected_rows(const nlohmann::json& job) {
+  cv::Mat p = cv::imread(job["output_dir"].get<std::string>() + "/pattern.png", cv::IMREAD_GRAYSCALE);
+  std::vector<std::string> rows;
+  for (int r = 0; r < p.rows; ++r) {
+    std::string line;
+    for (int c = 0; c < p.cols; ++c) line.push_back(p.at<uchar>(r, c) < 128 ? '1' : '0');
+    rows.push_back(line);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(E2EKnitMachine, ADroppedImageIsKnittedExactlyAsThePatternSays) {
+  Rig rig({}, "[knit]\nwidth = 60\n");
+  auto devices = rig.daemon->request("devices");
+  ASSERT_TRUE(devices["ok"]);
+  ASSERT_EQ(devices["result"].size(), 1u);
+  EXPECT_EQ(devices["result"][0]["name"], "knitter");
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    return rig.daemon->request("devices")["result"][0]["state"] == "online";
+  }, std::chrono::seconds(10)));
+
+  atelier::test::drop_file(atelier::test::test_image("pic3.png"), rig.daemon->incoming("knit") / "pic3.png");
+  ASSERT_TRUE(rig.wait_state("pic3.png", "completed")) << rig.daemon->log();
+  auto job = rig.job("pic3.png");
+  EXPECT_EQ(job["device"], "knitter");
+  auto expected = expected_rows(job);
+  EXPECT_EQ(job["progress"]["done"], static_cast<int>(expected.size()));
+  EXPECT_EQ(job["progress"]["total"], static_cast<int>(expected.size()));
+  EXPECT_EQ(rig.recorded(), expected);
+  std::vector<std::string> states;
+  auto show = rig.daemon->request("show", {{"id", job["id"]}});
+  for (const auto& h : show["result"]["history"]) states.push_back(h["to"]);
+  EXPECT_EQ(states, (std::vector<std::string>{"queued", "converting", "ready", "running", "completed"}));
+}
+
+TEST(E2EKnitMachine, LinkDropInterruptsAndResumeFromRowFinishesThePattern) {
+  Rig rig({"drop-after-row=12"}, "[knit]\nwidth = 50\n");
+  atelier::test::drop_file(atelier::test::test_image("HappyFish.jpg"), rig.daemon->incoming("knit") / "fish.jpg");
+  ASSERT_TRUE(rig.wait_state("fish.jpg", "interrupted")) << rig.daemon->log();
+  auto job = rig.job("fish.jpg");
+  EXPECT_NE(job["reason"].get<std::string>().find("device disconnected after row 12"), std::string::npos)
+      << job["reason"];
+  // The device went offline with the link and comes back when the emulator is replugged.
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    return rig.daemon->request("devices")["result"][0]["state"] == "online";
+  }, std::chrono::seconds(20))) << rig.daemon->log();
+
+  auto ctl = atelier::test::run_command({atelier::test::binary("atelierctl").string(), "--socket",
+                                         rig.daemon->socket().string(), "resume",
+                                         std::to_string(job["id"].get<int>()), "--from-row", "13"});
+  ASSERT_EQ(ctl.exit_code, 0) << ctl.err;
+  ASSERT_TRUE(rig.wait_state("fish.jpg", "completed")) << rig.daemon->log();
+  EXPECT_EQ(rig.recorded(), expected_rows(rig.job("fish.jpg")));
+}
+
+TEST(E2EKnitMachine, CorruptedBytesAreResentAndTheRecordIsStillExact) {
+  Rig rig({"corrupt=0.02"}, "[knit]\nwidth = 40\n");
+  atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
+  ASSERT_TRUE(rig.wait_state("pic1.png", "completed")) << rig.daemon->log();
+  EXPECT_EQ(rig.recorded(), expected_rows(rig.job("pic1.png")));
+}
+
+TEST(E2EKnitMachine, OldFirmwareFailsWithAClearReason) {
+  Rig rig({"api=5"}, "[knit]\nwidth = 40\n");
+  atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
+  ASSERT_TRUE(rig.wait_state("pic1.png", "failed")) << rig.daemon->log();
+  const std::string reason = rig.job("pic1.png")["reason"];
+  EXPECT_NE(reason.find("API"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("5"), std::string::npos) << reason;
+  EXPECT_TRUE(rig.recorded().empty());
+}
+
+TEST(E2EKnitMachine, APatternWiderThanTheBedFailsBeforeAnyRowIsSent) {
+  Rig rig({}, "[knit]\nwidth = 230\n");
+  atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "wide.png");
+  ASSERT_TRUE(rig.wait_state("wide.png", "failed")) << rig.daemon->log();
+  const std::string reason = rig.job("wide.png")["reason"];
+  EXPECT_NE(reason.find("230"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("200"), std::string::npos) << reason;
+  EXPECT_TRUE(rig.recorded().empty());
+}
+
+TEST(E2EKnitMachine, CancelStopsAfterTheCurrentRowAndTheMachineKnitsTheNextJob) {
+  Rig rig({}, "[knit]\nwidth = 40\n", /*row_ms=*/40);
+  atelier::test::drop_file(atelier::test::test_image("fruits.jpg"), rig.daemon->incoming("knit") / "a.jpg");
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    auto j = rig.job("a.jpg");
+    return !j.is_null() && j["state"] == "running" && j["progress"]["done"].get<int>() >= 3;
+  })) << rig.daemon->log();
+  auto r = rig.daemon->request("cancel", {{"id", rig.job("a.jpg")["id"]}});
+  ASSERT_TRUE(r["ok"]) << r;
+  ASSERT_TRUE(rig.wait_state("a.jpg", "canceled")) << rig.daemon->log();
+  const auto knitted = rig.recorded();
+  const auto full = expected_rows(rig.job("a.jpg"));
+  ASSERT_LT(knitted.size(), full.size());
+  EXPECT_EQ(knitted, std::vector<std::string>(full.begin(), full.begin() + knitted.size()));
+
+  atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "b.png");
+  ASSERT_TRUE(rig.wait_state("b.png", "completed")) << rig.daemon->log();
+  auto all = rig.recorded();
+  auto b = expected_rows(rig.job("b.png"));
+  ASSERT_EQ(all.size(), knitted.size() + b.size());
+  EXPECT_EQ(std::vector<std::string>(all.begin() + knitted.size(), all.end()), b);
+}
