@@ -1,0 +1,209 @@
+// atelier-knit-emu: the AYAB v6 firmware on a Brother KH-9xx / KH-270, on a pseudo-terminal.
+//
+//   atelier-knit-emu --machine kh930|kh910|kh270 --link PATH [--record FILE] [--row-ms N]
+//                    [--boot-ms N] [--fault SPEC ...] [--verbose]
+//
+// The firmware model (tools/knit_emu/firmware.h) runs on a real-time clock (ms since start);
+// this file only wires it to a pty and implements the link faults. On start it prints
+// "atelier-knit-emu: kh930 on /dev/pts/N linked at PATH" on stdout; SIGTERM/SIGINT remove the
+// link and exit 0. --fault specs are listed in tools/knit_emu/faults.h.
+//
+// drop-after-row=N: the reply that confirms row N (the next reqLine) is still written, then
+// the pty is closed and the link removed; after replug-ms a new pty appears at the same path
+// with a freshly booted firmware (boot delay included), like a replugged Arduino. The record
+// file keeps appending and rows keep their numbering.
+// Boot: a pty cannot tell when the host opens it, so the first byte received counts as the
+// open (the Arduino reset); input during the next --boot-ms is lost.
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "drivers/ayab/messages.h"
+#include "tools/knit_emu/faults.h"
+#include "tools/knit_emu/firmware.h"
+#include "tools/knit_emu/pty_link.h"
+
+namespace {
+
+using atelier::knit_emu::Faults;
+using atelier::knit_emu::Firmware;
+using atelier::knit_emu::FirmwareOptions;
+using atelier::knit_emu::KnittedRow;
+using atelier::knit_emu::PtyLink;
+namespace ab = atelier::ayab;
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+int64_t clock_ms() {
+  static const auto t0 = std::chrono::steady_clock::now();
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Logs the messages in a byte stream for --verbose (a decoder per direction).
+void log_traffic(ab::SlipDecoder& dec, const ab::Bytes& bytes, ab::MachineType m, const char* arrow) {
+  for (const auto& p : dec.feed(bytes)) {
+    const auto d = ab::decode(p, ab::line_bytes(m));
+    if (d.message) std::cerr << "atelier-knit-emu: " << arrow << ' ' << ab::describe(*d.message) << '\n';
+    else std::cerr << "atelier-knit-emu: " << arrow << " malformed packet: " << ab::error_text(d.error) << '\n';
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"AYAB v6 knitting-machine emulator on a pseudo-terminal"};
+  std::string machine_arg, link_path, record_path;
+  int64_t row_ms = 2000, boot_ms = 2000;
+  std::vector<std::string> fault_specs;
+  bool verbose = false;
+  app.add_option("--machine", machine_arg, "kh930, kh910 or kh270")->required();
+  app.add_option("--link", link_path, "symlink to create for the pty slave")->required();
+  app.add_option("--record", record_path, "append each knitted row (0/1 per needle) to FILE");
+  app.add_option("--row-ms", row_ms, "carriage pass time in ms")->check(CLI::PositiveNumber);
+  app.add_option("--boot-ms", boot_ms, "input ignored this long after the port is opened")->check(CLI::NonNegativeNumber);
+  app.add_option("--fault", fault_specs, "fault to inject (repeatable); see the list below");
+  app.add_flag("--verbose", verbose, "log protocol traffic to stderr");
+  app.footer(
+      "Faults (--fault SPEC, repeatable):\n"
+      "  drop-after-row=N[:M]  unplug after row N (rows counted from 1 over the emulator's life),\n"
+      "                        replug a fresh firmware at the same link after M ms (default 1000)\n"
+      "  replug-ms=M           replug delay on its own\n"
+      "  corrupt=F             corrupt a fraction F in [0,1] of the received bytes\n"
+      "  seed=S                seed of the corruption (default 1)\n"
+      "  silent-after-row=N    answer nothing after row N\n"
+      "  api=V                 report API version V in cnfInfo (e.g. 5)\n"
+      "  delay-ms=N            delay every reply by N ms");
+  CLI11_PARSE(app, argc, argv);
+
+  const auto machine = ab::machine_from_name(machine_arg);
+  if (!machine) {
+    std::cerr << "atelier-knit-emu: --machine " << machine_arg << ": unknown machine (kh930, kh910, kh270)\n";
+    return 2;
+  }
+  Faults faults;
+  for (const auto& spec : fault_specs) {
+    if (auto error = atelier::knit_emu::apply_fault(spec, faults); !error.empty()) {
+      std::cerr << "atelier-knit-emu: " << error << '\n';
+      return 2;
+    }
+  }
+  std::ofstream record;
+  if (!record_path.empty()) {
+    record.open(record_path, std::ios::app);
+    if (!record) {
+      std::cerr << "atelier-knit-emu: " << record_path << ": cannot open the record file for appending\n";
+      return 1;
+    }
+  }
+
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;  // no SA_RESTART: poll() returns EINTR
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGINT, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  int rows_total = 0;
+  bool drop_pending = false;
+  auto on_row = [&](const KnittedRow& row) {
+    rows_total = row.number;
+    if (record.is_open()) {
+      record << row.needles << '\n';
+      record.flush();
+    }
+    if (faults.drop_after_row && row.number == *faults.drop_after_row) drop_pending = true;
+  };
+  auto boot_firmware = [&] {
+    FirmwareOptions opt;
+    opt.machine = *machine;
+    opt.row_ms = row_ms;
+    opt.boot_ms = boot_ms;
+    opt.rows_before = rows_total;
+    opt.faults = faults;
+    return std::make_unique<Firmware>(opt, on_row, clock_ms());
+  };
+
+  std::unique_ptr<PtyLink> link;
+  std::unique_ptr<Firmware> fw;
+  try {
+    link = std::make_unique<PtyLink>(link_path);
+  } catch (const std::exception& e) {
+    std::cerr << "atelier-knit-emu: " << e.what() << '\n';
+    return 1;
+  }
+  fw = boot_firmware();
+  std::cout << "atelier-knit-emu: " << ab::machine_name(*machine) << " on " << link->slave_name()
+            << " linked at " << link_path << std::endl;
+
+  ab::Bytes pending;  // output not yet accepted by the pty
+  int64_t replug_at = 0;
+  ab::SlipDecoder log_in, log_out;
+  while (!g_stop) {
+    const int64_t now = clock_ms();
+    if (!link) {
+      if (now >= replug_at) {
+        try {
+          link = std::make_unique<PtyLink>(link_path);
+        } catch (const std::exception& e) {
+          std::cerr << "atelier-knit-emu: replug failed: " << e.what() << '\n';
+          return 1;
+        }
+        fw = boot_firmware();
+        pending.clear();
+        log_in = ab::SlipDecoder{};
+        log_out = ab::SlipDecoder{};
+        std::cerr << "atelier-knit-emu: replugged on " << link->slave_name() << '\n';
+        continue;
+      }
+      ::poll(nullptr, 0, static_cast<int>(std::min<int64_t>(replug_at - now, 200)));
+      continue;
+    }
+
+    int64_t timeout = 200;  // bounded so a signal between checks is seen soon
+    if (auto next = fw->next_event_ms()) timeout = std::clamp<int64_t>(*next - now, 0, timeout);
+    pollfd pfd{link->master_fd(), static_cast<short>(POLLIN | (pending.empty() ? 0 : POLLOUT)), 0};
+    const int ready = ::poll(&pfd, 1, static_cast<int>(timeout));
+    if (ready < 0 && errno != EINTR) {
+      std::perror("atelier-knit-emu: poll");
+      return 1;
+    }
+    fw->advance_to(clock_ms());
+    if (ready > 0 && (pfd.revents & POLLIN)) {
+      uint8_t buf[4096];
+      const ssize_t n = ::read(link->master_fd(), buf, sizeof buf);
+      if (n > 0) {
+        ab::Bytes in(buf, buf + n);
+        if (verbose) log_traffic(log_in, in, *machine, "host ->");
+        fw->receive(in);
+      }
+    }
+    fw->advance_to(clock_ms());
+    const ab::Bytes out = fw->take_output();
+    if (verbose && !out.empty()) log_traffic(log_out, out, *machine, "emu  ->");
+    pending.insert(pending.end(), out.begin(), out.end());
+    while (!pending.empty()) {
+      const ssize_t n = ::write(link->master_fd(), pending.data(), pending.size());
+      if (n <= 0) break;  // EAGAIN: the host is not reading; retry on POLLOUT
+      pending.erase(pending.begin(), pending.begin() + n);
+    }
+    if (drop_pending) {
+      drop_pending = false;
+      std::cerr << "atelier-knit-emu: link dropped after row " << rows_total << " (fault)\n";
+      link->close();
+      link.reset();
+      fw.reset();
+      replug_at = clock_ms() + faults.replug_ms;
+    }
+  }
+  link.reset();  // removes the symlink
+  return 0;
+}
