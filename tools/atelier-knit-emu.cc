@@ -8,7 +8,8 @@
 // "atelier-knit-emu: kh930 on /dev/pts/N linked at PATH" on stdout; SIGTERM/SIGINT remove the
 // link and exit 0. --fault specs are listed in tools/knit_emu/faults.h.
 //
-// drop-after-row=N: the reply that confirms row N (the next reqLine) is still written, then
+// drop-after-row=N: the reply that confirms row N (the next reqLine) is still written (and up to
+// 1 s is given for the host to read it), then
 // the pty is closed and the link removed; after replug-ms a new pty appears at the same path
 // with a freshly booted firmware (boot delay included), like a replugged Arduino. The record
 // file keeps appending and rows keep their numbering.
@@ -197,6 +198,8 @@ int main(int argc, char** argv) {
     }
     if (drop_pending) {
       drop_pending = false;
+      // Let the host read the reqLine confirming the last row (bounded: it may not be reading).
+      if (pending.empty()) link->drain(1000);
       std::cerr << "atelier-knit-emu: link dropped after row " << rows_total << " (fault)\n";
       link->close();
       link.reset();

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <pty.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
@@ -9,6 +10,8 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <chrono>
+#include <thread>
 
 namespace atelier::knit_emu {
 namespace {
@@ -50,6 +53,20 @@ PtyLink::PtyLink(const std::string& link_path) : link_(link_path) {
 }
 
 PtyLink::~PtyLink() { close(); }
+
+bool PtyLink::drain(int max_ms) {
+  // Bytes written to the master reach the slave's queue asynchronously (the kernel's flip
+  // buffer), so an empty queue right after a write proves nothing: let them land first.
+  constexpr int kSettleMs = 50;
+  std::this_thread::sleep_for(std::chrono::milliseconds(kSettleMs));
+  for (int waited = kSettleMs; master_ >= 0; waited += 2) {
+    int unread = 0;
+    if (::ioctl(slave_, TIOCINQ, &unread) != 0 || unread == 0) return true;
+    if (waited >= max_ms) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
 
 void PtyLink::close() {
   if (master_ < 0) return;

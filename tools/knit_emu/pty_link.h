@@ -25,6 +25,10 @@ class PtyLink {
   const std::string& slave_name() const { return slave_name_; }  // e.g. /dev/pts/7
   const std::string& link_path() const { return link_; }
 
+  // Waits (at least 50 ms, then in 2 ms steps, at most `max_ms`) until the host has read everything written
+  // to the master; closing the master discards unread bytes. Returns false on timeout.
+  bool drain(int max_ms);
+
   // Unplugs: closes the pty and removes the symlink if it still points at our slave.
   void close();
 
