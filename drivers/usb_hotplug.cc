@@ -14,6 +14,10 @@
 namespace atelier {
 
 struct UsbHotplugMonitor::Impl {
+  // The monitor whose thread this is (null elsewhere), so stop() can refuse to join itself
+  // without reading `thread`, which start() may still be assigning.
+  static thread_local const Impl* running_here;
+
   Callback callback;
   UsbMonitorOptions options;
   std::atomic<Mode> mode{Mode::stopped};
@@ -58,6 +62,7 @@ struct UsbHotplugMonitor::Impl {
   }
 
   void run_hotplug() {
+    running_here = this;
     dispatch();  // the devices enumerated while registering
     while (!stopping) {
       timeval tv{0, 500000};  // a backstop; stop() interrupts the wait at once
@@ -69,6 +74,7 @@ struct UsbHotplugMonitor::Impl {
   static std::string key(const UsbDeviceInfo& d) { return d.sysfs_name + "/" + to_string(d.id); }
 
   void run_polling() {
+    running_here = this;
     std::map<std::string, UsbDeviceInfo> known;
     while (!stopping) {
       bool listed = true;
@@ -92,6 +98,8 @@ struct UsbHotplugMonitor::Impl {
     }
   }
 };
+
+thread_local const UsbHotplugMonitor::Impl* UsbHotplugMonitor::Impl::running_here = nullptr;
 
 UsbHotplugMonitor::UsbHotplugMonitor(Callback callback, UsbMonitorOptions options)
     : impl_(std::make_unique<Impl>()) {
@@ -137,9 +145,9 @@ void UsbHotplugMonitor::start() {
 
 void UsbHotplugMonitor::stop() {
   Impl& m = *impl_;
-  if (!m.thread.joinable()) return;
-  if (m.thread.get_id() == std::this_thread::get_id())
+  if (Impl::running_here == &m)
     throw std::logic_error("UsbHotplugMonitor::stop called from its own callback");
+  if (!m.thread.joinable()) return;
   {
     std::lock_guard lock(m.mu);
     m.stopping = true;
