@@ -191,12 +191,17 @@ int main(int argc, char** argv) {
     const ab::Bytes out = fw->take_output();
     if (verbose && !out.empty()) log_traffic(log_out, out, *machine, "emu  ->");
     pending.insert(pending.end(), out.begin(), out.end());
+    // The drop waits for the reqLine that confirms row N to the host (it comes once the
+    // carriage is past the working range), so the host knows exactly what was knitted.
+    bool confirms_row = false;
+    for (size_t i = 0; i + 1 < out.size(); ++i)
+      if (out[i] == 0xC0 && out[i + 1] == static_cast<uint8_t>(ab::MsgId::reqLine)) confirms_row = true;
     while (!pending.empty()) {
       const ssize_t n = ::write(link->master_fd(), pending.data(), pending.size());
       if (n <= 0) break;  // EAGAIN: the host is not reading; retry on POLLOUT
       pending.erase(pending.begin(), pending.begin() + n);
     }
-    if (drop_pending) {
+    if (drop_pending && confirms_row) {
       drop_pending = false;
       // Let the host read the reqLine confirming the last row (bounded: it may not be reading).
       if (pending.empty()) link->drain(1000);

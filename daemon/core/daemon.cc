@@ -13,6 +13,9 @@
 #include "daemon/convert/convert.h"
 #include "daemon/convert/param_table.h"
 #include "daemon/core/job_json.h"
+#include "daemon/core/knit_device.h"
+#include "drivers/serial_transport.h"
+#include "drivers/usb_device.h"
 #include "daemon/core/log.h"
 
 namespace fs = std::filesystem;
@@ -52,6 +55,33 @@ Daemon::Daemon(fs::path config_file, Config initial)
   jobs_->ensure_layout();
   runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
   scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
+  for (const DeviceConfig& d : c.devices) {
+    // The driver is "ayab": the only one config.cc accepts in this build.
+    KnitDevice::PortResolver resolve;
+    if (!d.usb.empty()) {
+      const UsbId id = parse_usb_id(d.usb);
+      resolve = [id] { return find_usb_tty(id); };
+    } else {
+      resolve = [port = d.port]() -> std::optional<std::string> {
+        std::error_code ec;
+        if (fs::exists(port, ec)) return port;
+        return std::nullopt;
+      };
+    }
+    auto opener = [](const std::string& port) -> std::unique_ptr<Transport> {
+      return SerialTransport::open(port);
+    };
+    devices_.push_back(std::make_unique<KnitDevice>(d, *jobs_, opener, resolve));
+  }
+  scheduler_->set_device_hooks(
+      [this](const std::string& kind) -> std::string {
+        for (const auto& d : devices_)
+          if (d->takes(kind)) return d->config().name;
+        return "";
+      },
+      [this] {
+        for (const auto& d : devices_) d->wake();
+      });
   control_ = std::make_unique<ControlServer>(
       c.socket_path, c.socket_group,
       [this](const std::string& verb, const nlohmann::json& args) { return handle(verb, args); });
@@ -98,7 +128,32 @@ nlohmann::json Daemon::status() {
           {"workers", c->workers},
           {"kinds", known_kinds()},
           {"queue", queue},
-          {"devices", nlohmann::json::array()}};
+          {"devices", devices_json()}};
+}
+
+nlohmann::json Daemon::devices_json() const {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& d : devices_) out.push_back(d->describe());
+  return out;
+}
+
+Device* Daemon::device_for(const Job& job) const {
+  if (!job.device.empty())
+    for (const auto& d : devices_)
+      if (d->config().name == job.device) return d.get();
+  for (const auto& d : devices_)
+    if (d->takes(job.kind)) return d.get();
+  return nullptr;
+}
+
+Device& Daemon::device_of_job(int64_t id) {
+  auto job = store_->get(id);
+  if (!job) throw ControlError("no job " + std::to_string(id));
+  Device* d = device_for(*job);
+  if (!d)
+    throw ControlError("job " + std::to_string(id) + " (" + job->kind + "): no device is configured for kind " +
+                       job->kind);
+  return *d;
 }
 
 nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& args) {
@@ -174,9 +229,19 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     const int64_t id = job_id_arg(args);
     auto job = store_->get(id);
     if (!job) throw ControlError("no job " + std::to_string(id));
+    Device* device = device_for(*job);
+    if (job->state == JobState::ready) {
+      if (device) device->cancel(id);  // forget a start/arm request
+      jobs_->transition(id, JobState::canceled, "canceled by user before the machine started");
+      return job_to_json(*store_->get(id));
+    }
+    if (job->state == JobState::running && device && device->cancel(id)) {
+      // The machine finishes the row it is on, then gets the blank last line.
+      return job_to_json(*job);
+    }
     if (!scheduler_->cancel(id))
       throw ControlError("job " + std::to_string(id) + " is " + state_name(job->state) +
-                         "; only queued or converting jobs can be canceled");
+                         "; only queued, converting, ready or running jobs can be canceled");
     // A converting job reaches `canceled` when its converter has stopped (well under 1 s).
     for (int i = 0; i < 50; ++i) {
       job = store_->get(id);
@@ -195,15 +260,30 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     scheduler_->enqueue(id);
     return job_to_json(*store_->get(id));
   }
-  if (verb == "start" || verb == "resume" || verb == "frame") {
+  if (verb == "start" || verb == "resume") {
+    const int64_t id = job_id_arg(args);
+    Device& device = device_of_job(id);
+    try {
+      if (verb == "start") {
+        device.start(id);
+      } else {
+        if (!args.contains("from_row") || !args["from_row"].is_number_integer())
+          throw ControlError("resume needs an integer \"from_row\"");
+        device.resume(id, args["from_row"].get<int>());
+      }
+    } catch (const std::runtime_error& e) {
+      throw ControlError(e.what());
+    }
+    return job_to_json(*store_->get(id));
+  }
+  if (verb == "frame") {
     const int64_t id = job_id_arg(args);
     auto job = store_->get(id);
     if (!job) throw ControlError("no job " + std::to_string(id));
-    throw ControlError("job " + std::to_string(id) + " (" + job->kind + ", " +
-                       state_name(job->state) + "): no device is configured for kind " +
-                       job->kind + ", so there is nothing to " + verb);
+    throw ControlError("job " + std::to_string(id) + " (" + job->kind +
+                       "): framing traces a laser job's outline, and no laser is configured");
   }
-  if (verb == "devices") return nlohmann::json::array();
+  if (verb == "devices") return devices_json();
   if (verb == "wood")
     throw ControlError("the veneer stock belongs to parquetry jobs, which this build does not convert");
   throw ControlError("unknown verb '" + verb + "'");
@@ -243,6 +323,7 @@ int Daemon::run() {
   hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
   scheduler_->start(cfg->workers);
+  for (auto& d : devices_) static_cast<KnitDevice&>(*d).start_worker();
   for (const auto& entry : hot_folder_->scan()) claim(entry);
   control_->start();
 
@@ -291,6 +372,7 @@ int Daemon::run() {
   log::info("stopping: no new jobs; conversions in progress are re-queued");
   hot_folder_.reset();
   scheduler_->stop();
+  for (auto& d : devices_) d->stop();  // a job being knitted ends interrupted, never resumed alone
   control_->stop();
   log::info("stopped");
   return 0;

@@ -15,6 +15,7 @@
 #include "daemon/core/config.h"
 #include "daemon/core/control_server.h"
 #include "daemon/core/conversion_runner.h"
+#include "daemon/core/device.h"
 #include "daemon/core/hot_folder.h"
 #include "daemon/core/job_service.h"
 #include "daemon/core/scheduler.h"
@@ -35,6 +36,9 @@ class Daemon {
  private:
   nlohmann::json handle(const std::string& verb, const nlohmann::json& args);
   nlohmann::json status();
+  nlohmann::json devices_json() const;
+  Device* device_for(const Job& job) const;
+  Device& device_of_job(int64_t id);
   void claim(const std::filesystem::path& entry);
   void reload();
   void notify_status();
@@ -51,6 +55,7 @@ class Daemon {
   std::unique_ptr<SubprocessRunner> runner_;
   std::unique_ptr<Scheduler> scheduler_;
   std::unique_ptr<HotFolder> hot_folder_;
+  std::vector<std::unique_ptr<Device>> devices_;  // one worker each, from [[device]]
 };
 
 }  // namespace atelier

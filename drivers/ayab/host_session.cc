@@ -92,6 +92,9 @@ void HostSession::init(MachineType machine) {
     while (auto m = receive(retry)) {
       const auto* c = std::get_if<CnfInit>(&*m);
       if (!c) continue;
+      // Wrong state: the firmware is initialised already (the port was opened without
+      // resetting the board, e.g. after a previous job). It knows its machine; go on to start.
+      if (c->error >= err::wrong_state && c->error <= 0xEF) return;
       if (c->error != err::success)
         throw AyabError("the knitting machine refused initialisation as " + machine_name(machine) + ": " +
                         error_text(c->error));
@@ -118,13 +121,31 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   const int per_row = std::max(1, plan.passes_per_row);
   line_bytes_ = line_bytes(plan.machine);
 
-  send(ReqStart{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false, true});
-  const auto start_deadline = Clock::now() + timeouts_.reply;
+  const ReqStart start{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false, true};
+  send(start);
+  auto start_deadline = Clock::now() + timeouts_.reply;
   for (bool started = false; !started;) {
     auto m = receive(start_deadline);
     if (!m)
       throw AyabError("the knitting machine did not answer the start request within " + seconds_text(timeouts_.reply));
     if (const auto* c = std::get_if<CnfStart>(&*m)) {
+      if (c->error >= err::wrong_state && c->error <= 0xEF) {
+        // Not ready yet (an initialised machine whose carriage has not passed the turn mark
+        // since the last job): wait for the ready indState, then ask again.
+        const auto ready_by = timeouts_.ready.count() == 0 ? Clock::time_point::max() : Clock::now() + timeouts_.ready;
+        bool ready = false;
+        while (!ready) {
+          auto r = receive(ready_by);
+          if (!r)
+            throw AyabError("the knitting machine did not become ready within " + seconds_text(timeouts_.ready) +
+                            ": move the carriage across the turn mark");
+          const auto* st = std::get_if<IndState>(&*r);
+          ready = st && st->error == err::success;
+        }
+        send(start);
+        start_deadline = Clock::now() + timeouts_.reply;
+        continue;
+      }
       if (c->error != err::success)
         throw AyabError("the knitting machine refused to start knitting needles " + std::to_string(plan.start_needle) +
                         ".." + std::to_string(plan.stop_needle) + ": " + error_text(c->error));

@@ -1,0 +1,258 @@
+#include "daemon/core/knit_device.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "daemon/core/log.h"
+#include "drivers/ayab/knit_plan.h"
+
+namespace fs = std::filesystem;
+
+namespace atelier {
+namespace {
+
+// Devices of the same kind compete for ready jobs: claiming one is done under this lock.
+std::mutex g_claim_mu;
+
+std::string job_tag(int64_t id) { return "job " + std::to_string(id); }
+
+}  // namespace
+
+KnitDevice::KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
+                       ayab::SessionTimeouts timeouts)
+    : config_(std::move(config)),
+      jobs_(jobs),
+      open_(std::move(open)),
+      resolve_(std::move(resolve)),
+      timeouts_(timeouts) {}
+
+KnitDevice::~KnitDevice() { stop(); }
+
+void KnitDevice::start_worker() { thread_ = std::thread([this] { worker(); }); }
+
+void KnitDevice::stop() {
+  {
+    std::lock_guard lock(mu_);
+    stopping_ = true;
+    if (cancel_flag_) cancel_flag_->store(true);
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+nlohmann::json KnitDevice::describe() const {
+  std::lock_guard lock(mu_);
+  return {{"name", config_.name},
+          {"driver", config_.driver},
+          {"machine", config_.machine},
+          {"port", port_.empty() ? (config_.port.empty() ? "usb " + config_.usb : config_.port) : port_},
+          {"kinds", config_.kinds},
+          {"state", state_},
+          {"detail", detail_},
+          {"job", current_ ? nlohmann::json(*current_) : nlohmann::json(nullptr)}};
+}
+
+void KnitDevice::set_state(const std::string& state, const std::string& detail) {
+  std::lock_guard lock(mu_);
+  if (state_ != state) log::info("device " + config_.name + ": " + state + (detail.empty() ? "" : " (" + detail + ")"));
+  state_ = state;
+  detail_ = detail;
+}
+
+void KnitDevice::wake() {
+  {
+    std::lock_guard lock(mu_);
+    woken_ = true;
+  }
+  cv_.notify_all();
+}
+
+void KnitDevice::start(int64_t job_id) {
+  auto job = jobs_.store().get(job_id);
+  if (!job || job->state != JobState::ready || !takes(job->kind))
+    throw std::runtime_error(job_tag(job_id) + " is not a ready " + config_.kinds.front() + " job");
+  {
+    std::lock_guard lock(mu_);
+    armed_.insert(job_id);
+  }
+  wake();
+}
+
+bool KnitDevice::cancel(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  resumes_.erase(job_id);
+  armed_.erase(job_id);
+  if (current_ == job_id && cancel_flag_) {
+    cancel_flag_->store(true);
+    return true;
+  }
+  return false;
+}
+
+void KnitDevice::resume(int64_t job_id, int from_row) {
+  auto job = jobs_.store().get(job_id);
+  if (!job) throw std::runtime_error("no " + job_tag(job_id));
+  if (job->state != JobState::interrupted)
+    throw std::runtime_error(job_tag(job_id) + " is " + state_name(job->state) +
+                             "; only interrupted jobs can be resumed");
+  cv::Mat pattern = cv::imread((fs::path(job->output_dir) / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+  if (pattern.empty()) throw std::runtime_error(job_tag(job_id) + ": its pattern.png is gone");
+  if (from_row < 1 || from_row > pattern.rows)
+    throw std::runtime_error("row " + std::to_string(from_row) + " is outside the pattern (rows 1 to " +
+                             std::to_string(pattern.rows) + ")");
+  {
+    std::lock_guard lock(mu_);
+    resumes_[job_id] = from_row;
+  }
+  wake();
+}
+
+ayab::PlanParams KnitDevice::plan_params() const {
+  ayab::PlanParams p;
+  p.machine = *ayab::machine_from_name(config_.machine);
+  p.mode = *ayab::knit_mode_from_name(config_.mode);
+  if (config_.start_needle > 0) p.start_needle = config_.start_needle - 1;
+  p.first_row_top = config_.first_row == "top";
+  p.mirror = config_.mirror;
+  return p;
+}
+
+std::optional<KnitDevice::Work> KnitDevice::next_work() {
+  std::lock_guard claim(g_claim_mu);
+  {
+    std::lock_guard lock(mu_);
+    while (!resumes_.empty()) {
+      auto [id, row] = *resumes_.begin();
+      resumes_.erase(resumes_.begin());
+      auto job = jobs_.store().get(id);
+      if (job && job->state == JobState::interrupted) return Work{id, row};
+    }
+  }
+  JobFilter filter;
+  filter.state = JobState::ready;
+  auto ready = jobs_.store().list(filter);
+  for (auto it = ready.rbegin(); it != ready.rend(); ++it) {  // oldest first
+    if (!takes(it->kind)) continue;
+    std::lock_guard lock(mu_);
+    if (config_.autostart || armed_.count(it->id)) {
+      armed_.erase(it->id);
+      return Work{it->id, 1};
+    }
+  }
+  return std::nullopt;
+}
+
+void KnitDevice::worker() {
+  for (;;) {
+    {
+      std::lock_guard lock(mu_);
+      if (stopping_) return;
+    }
+    auto port = resolve_();
+    {
+      std::lock_guard lock(mu_);
+      port_ = port.value_or("");
+    }
+    if (!port) {
+      set_state("offline", "not connected");
+    } else {
+      set_state("online", "");
+      if (auto work = next_work()) {
+        knit(*work);
+        continue;
+      }
+    }
+    std::unique_lock lock(mu_);
+    cv_.wait_for(lock, std::chrono::milliseconds(300), [this] { return stopping_ || woken_; });
+    woken_ = false;
+  }
+}
+
+void KnitDevice::knit(const Work& work) {
+  const int64_t id = work.id;
+  auto job = jobs_.store().get(id);
+  if (!job) return;
+  auto cancel = std::make_shared<std::atomic<bool>>(false);
+  {
+    std::lock_guard lock(mu_);
+    current_ = id;
+    cancel_flag_ = cancel;
+  }
+  struct Clear {
+    KnitDevice* d;
+    ~Clear() {
+      std::lock_guard lock(d->mu_);
+      d->current_.reset();
+      d->cancel_flag_.reset();
+    }
+  } clear{this};
+
+  const std::string from_text = work.from_row > 1 ? " from row " + std::to_string(work.from_row) : "";
+  jobs_.transition(id, JobState::running, "knitting on " + config_.name + from_text, config_.name);
+  set_state("busy", job_tag(id));
+
+  // Rows knitted so far, counted from 1 as the knitter counts them.
+  int rows_done = work.from_row - 1;
+  bool knitting_started = false;
+  try {
+    cv::Mat image = cv::imread((fs::path(job->output_dir) / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw std::runtime_error(job->output_dir + "/pattern.png cannot be read");
+    cv::Mat pattern = image < 128;  // black = contrast = 1
+    pattern /= 255;
+    const ayab::KnitPlan plan = ayab::plan_knitting(pattern, plan_params());
+    const int total_rows = pattern.rows;
+    jobs_.store().set_progress(id, rows_done, total_rows);
+
+    auto port = resolve_();
+    if (!port) throw LinkLost("the machine is not connected");
+    std::unique_ptr<Transport> link = open_(*port);
+    ayab::HostSession session(*link, timeouts_);
+    session.connect();
+    session.init(plan.machine);
+    knitting_started = true;
+    const int from_pass = (work.from_row - 1) * plan.passes_per_row;
+    session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
+      rows_done = p.passes_done / plan.passes_per_row;
+      jobs_.store().set_progress(id, rows_done, total_rows);
+    }, *cancel);
+    link->close();
+    bool daemon_stopping;
+    {
+      std::lock_guard lock(mu_);
+      daemon_stopping = stopping_;
+    }
+    if (cancel->load() && daemon_stopping) {
+      jobs_.transition(id, JobState::interrupted,
+                       "atelierd stopped after row " + std::to_string(rows_done) +
+                           "; continue with: atelierctl resume " + std::to_string(id) +
+                           " --from-row " + std::to_string(rows_done + 1));
+    } else if (cancel->load()) {
+      jobs_.transition(id, JobState::canceled,
+                       "canceled after row " + std::to_string(rows_done) +
+                           "; the machine was sent the blank last line and is ready");
+    } else {
+      jobs_.transition(id, JobState::completed,
+                       "knitted " + std::to_string(total_rows) + " rows on " + config_.name);
+    }
+  } catch (const LinkLost& e) {
+    set_state("offline", e.what());
+    jobs_.transition(id, JobState::interrupted,
+                     "device disconnected after row " + std::to_string(rows_done) +
+                         "; continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
+                         std::to_string(rows_done + 1));
+  } catch (const ayab::AyabError& e) {
+    if (knitting_started) {
+      jobs_.transition(id, JobState::interrupted,
+                       std::string(e.what()) + " (after row " + std::to_string(rows_done) +
+                           "; continue with: atelierctl resume " + std::to_string(id) +
+                           " --from-row " + std::to_string(rows_done + 1) + ")");
+    } else {
+      jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
+    }
+  } catch (const std::exception& e) {
+    // The pattern does not fit the machine, or its file is unreadable: nothing was knitted.
+    jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
+  }
+  log::info(job_tag(id) + ": " + jobs_.store().get(id)->reason);
+}
+
+}  // namespace atelier
