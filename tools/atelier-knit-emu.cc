@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   app.add_option("--machine", machine_arg, "kh930, kh910 or kh270")->required();
   app.add_option("--link", link_path, "symlink to create for the pty slave")->required();
   app.add_option("--record", record_path, "append each knitted row (0/1 per needle) to FILE");
-  app.add_option("--row-ms", row_ms, "carriage pass time in ms")->check(CLI::PositiveNumber);
+  app.add_option("--row-ms", row_ms, "carriage pass time in ms (0: instant, for benchmarks)")->check(CLI::NonNegativeNumber);
   app.add_option("--boot-ms", boot_ms, "input ignored this long after the port is opened")->check(CLI::NonNegativeNumber);
   app.add_option("--fault", fault_specs, "fault to inject (repeatable); see the list below");
   app.add_flag("--verbose", verbose, "log protocol traffic to stderr");
