@@ -6,6 +6,7 @@
 #include <systemd/sd-daemon.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <sstream>
@@ -324,6 +325,17 @@ int Daemon::run() {
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
   scheduler_->start(cfg->workers);
   for (auto& d : devices_) static_cast<KnitDevice&>(*d).start_worker();
+  if (std::any_of(devices_.begin(), devices_.end(), [](const auto& d) { return !d->config().usb.empty(); })) {
+    usb_monitor_ = std::make_unique<UsbHotplugMonitor>([this](UsbEvent, const UsbDeviceInfo&) {
+      for (const auto& d : devices_) d->wake();
+    });
+    try {
+      usb_monitor_->start();
+    } catch (const std::exception& e) {
+      log::warning(std::string("USB hotplug unavailable, devices are polled: ") + e.what());
+      usb_monitor_.reset();
+    }
+  }
   for (const auto& entry : hot_folder_->scan()) claim(entry);
   control_->start();
 
@@ -371,6 +383,7 @@ int Daemon::run() {
   sd_notify(0, "STOPPING=1");
   log::info("stopping: no new jobs; conversions in progress are re-queued");
   hot_folder_.reset();
+  if (usb_monitor_) usb_monitor_->stop();
   scheduler_->stop();
   for (auto& d : devices_) d->stop();  // a job being knitted ends interrupted, never resumed alone
   control_->stop();

@@ -20,6 +20,7 @@
 #include "daemon/core/job_service.h"
 #include "daemon/core/scheduler.h"
 #include "daemon/core/store.h"
+#include "drivers/usb_hotplug.h"
 
 namespace atelier {
 
@@ -56,6 +57,9 @@ class Daemon {
   std::unique_ptr<Scheduler> scheduler_;
   std::unique_ptr<HotFolder> hot_folder_;
   std::vector<std::unique_ptr<Device>> devices_;  // one worker each, from [[device]]
+  // Wakes the devices when a USB device comes or goes (only when a device is found by USB id),
+  // so plugging a machine in brings it online at once.
+  std::unique_ptr<UsbHotplugMonitor> usb_monitor_;
 };
 
 }  // namespace atelier

@@ -147,18 +147,29 @@ void KnitDevice::worker() {
       std::lock_guard lock(mu_);
       if (stopping_) return;
     }
-    auto port = resolve_();
+    std::optional<std::string> port;
+    std::string why = "not connected";
+    try {
+      port = resolve_();
+    } catch (const std::exception& e) {  // e.g. two boards match the USB id
+      why = e.what();
+    }
     {
       std::lock_guard lock(mu_);
       port_ = port.value_or("");
     }
     if (!port) {
-      set_state("offline", "not connected");
+      set_state("offline", why);
     } else {
       set_state("online", "");
-      if (auto work = next_work()) {
-        knit(*work);
-        continue;
+      try {
+        if (auto work = next_work()) {
+          knit(*work);
+          continue;
+        }
+      } catch (const std::exception& e) {
+        // The store failed under us (e.g. a full disk): say so and try again later.
+        log::error("device " + config_.name + ": " + e.what());
       }
     }
     std::unique_lock lock(mu_);
