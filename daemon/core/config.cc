@@ -38,6 +38,7 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
     d.mirror = r.get_bool("mirror", false);
   }
   r.finish();
+  if (knitter && d.kinds.empty()) r.fail("kinds", "a knitting machine needs at least one kind, e.g. [\"knit\"]");
   if (knitter && d.port.empty() && d.usb.empty())
     r.fail("name", "device '" + d.name + "' needs port = \"/dev/ttyACM0\" or usb = \"2341:0043\"");
   for (const auto& k : d.kinds)
