@@ -109,7 +109,12 @@ std::string device_job_text(const json& device) {
       (job.is_string() && job.get<std::string>().empty())) {
     return "-";
   }
-  if (job.is_object()) return text(job, "id");
+  if (job.is_object()) {
+    std::string out = text(job, "id");
+    if (job.contains("progress") && job["progress"].is_object())
+      out += " (" + text(job["progress"], "done") + "/" + text(job["progress"], "total") + " rows)";
+    return out;
+  }
   return job.is_string() ? job.get<std::string>() : dump(job);
 }
 
@@ -313,6 +318,11 @@ std::string format_event(const json& event) {
     when = buf;
   }
   std::string from = text(event, "from");
+  if (event.is_object() && event.value("progress", false)) {
+    // Progress within a state (a knitted row): no arrow, just where the job is.
+    return when + " job " + text(job, "id") + " " + text(job, "name") + ": " + text(event, "to") + ", " +
+           text(event, "reason") + "\n";
+  }
   std::string line = when + " job " + text(job, "id") + " " + text(job, "name") + ": " +
                      (from.empty() ? "(new)" : from) + " -> " + text(event, "to");
   std::string reason = text(event, "reason");

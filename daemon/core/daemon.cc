@@ -47,11 +47,13 @@ Daemon::Daemon(fs::path config_file, Config initial)
   store_ = std::make_unique<Store>(c.store_path);
   SpoolLayout layout{c.spool_dir};
   jobs_ = std::make_unique<JobService>(*store_, layout, [this](const JobChange& change) {
-    if (control_)
-      control_->publish({{"job", job_to_json(change.job)},
-                         {"from", change.from},
-                         {"to", change.to},
-                         {"reason", change.reason}});
+    if (!control_) return;
+    nlohmann::json event = {{"job", job_to_json(change.job)},
+                            {"from", change.from},
+                            {"to", change.to},
+                            {"reason", change.reason}};
+    if (change.progress_only) event["progress"] = true;
+    control_->publish(event);
   });
   jobs_->ensure_layout();
   runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());

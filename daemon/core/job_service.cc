@@ -187,6 +187,13 @@ void JobService::transition(int64_t id, JobState to, const std::string& reason,
     on_change_({*store_.get(id), state_name(before->state), state_name(to), reason});
 }
 
+void JobService::progress(int64_t id, int64_t done, int64_t total, const std::string& what) {
+  store_.set_progress(id, done, total);
+  if (!on_change_) return;
+  auto job = store_.get(id);
+  if (job) on_change_({*job, state_name(job->state), state_name(job->state), what, true});
+}
+
 void JobService::clean_partial_outputs(const Job& job) const {
   const std::set<std::string> keep = {job.name, job.name + ".toml", job.name + ".relax.png",
                                       kClaimFile};

@@ -26,6 +26,7 @@ struct JobChange {
   std::string from;  // previous state, "" when created
   std::string to;
   std::string reason;
+  bool progress_only = false;  // no state change: the job moved on (e.g. a row was knitted)
 };
 
 class JobService {
@@ -55,6 +56,9 @@ class JobService {
 
   // The claimed input of a queued/converting job (in work/<id>/).
   std::filesystem::path input_of(const Job& job) const;
+
+  // Records progress (no event row; too frequent) and tells the listener, so `watch` shows it.
+  void progress(int64_t id, int64_t done, int64_t total, const std::string& what);
 
   // State changes (each one store transaction, then on_change).
   void transition(int64_t id, JobState to, const std::string& reason,

@@ -39,6 +39,15 @@ void KnitDevice::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+nlohmann::json KnitDevice::current_job_json(int64_t id) const {
+  nlohmann::json out = {{"id", id}};
+  if (auto job = jobs_.store().get(id)) {
+    out["name"] = job->name;
+    out["progress"] = {{"done", job->progress_done}, {"total", job->progress_total}};
+  }
+  return out;
+}
+
 nlohmann::json KnitDevice::describe() const {
   std::lock_guard lock(mu_);
   return {{"name", config_.name},
@@ -48,7 +57,7 @@ nlohmann::json KnitDevice::describe() const {
           {"kinds", config_.kinds},
           {"state", state_},
           {"detail", detail_},
-          {"job", current_ ? nlohmann::json(*current_) : nlohmann::json(nullptr)}};
+          {"job", current_ ? current_job_json(*current_) : nlohmann::json(nullptr)}};
 }
 
 void KnitDevice::set_state(const std::string& state, const std::string& detail) {
@@ -223,7 +232,8 @@ void KnitDevice::knit(const Work& work) {
     const int from_pass = (work.from_row - 1) * plan.passes_per_row;
     session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
       rows_done = p.passes_done / plan.passes_per_row;
-      jobs_.store().set_progress(id, rows_done, total_rows);
+      jobs_.progress(id, rows_done, total_rows,
+                     "knitted row " + std::to_string(rows_done) + " of " + std::to_string(total_rows));
     }, *cancel);
     link->close();
     bool daemon_stopping;

@@ -57,6 +57,7 @@ class KnitDevice : public Device {
   std::optional<Work> next_work();
   void knit(const Work& work);
   void set_state(const std::string& state, const std::string& detail);
+  nlohmann::json current_job_json(int64_t id) const;  // {"id", "name", "progress"}
   ayab::PlanParams plan_params() const;
 
   DeviceConfig config_;

@@ -152,6 +152,11 @@ TEST(E2EKnitMachine, CancelStopsAfterTheCurrentRowAndTheMachineKnitsTheNextJob) 
     auto j = rig.job("a.jpg");
     return !j.is_null() && j["state"] == "running" && j["progress"]["done"].get<int>() >= 3;
   })) << rig.daemon->log();
+  // The device shows the job it is knitting and how far it got.
+  auto busy = rig.daemon->request("devices")["result"][0];
+  EXPECT_EQ(busy["state"], "busy");
+  EXPECT_EQ(busy["job"]["id"], rig.job("a.jpg")["id"]);
+  EXPECT_GE(busy["job"]["progress"]["done"].get<int>(), 3);
   auto r = rig.daemon->request("cancel", {{"id", rig.job("a.jpg")["id"]}});
   ASSERT_TRUE(r["ok"]) << r;
   ASSERT_TRUE(rig.wait_state("a.jpg", "canceled")) << rig.daemon->log();
