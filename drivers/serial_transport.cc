@@ -101,6 +101,8 @@ std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path) 
   }
   const int flags = fcntl(fd, F_GETFL);
   fcntl(fd, F_SETFL, flags | O_NONBLOCK);
+  // libserialport opens without O_CLOEXEC: converter children must not inherit the machine.
+  fcntl(fd, F_SETFD, fcntl(fd, F_GETFD) | FD_CLOEXEC);
   const int wake = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
   if (wake < 0) {
     const int e = errno;

@@ -81,7 +81,8 @@ void ControlServer::publish(const nlohmann::json& event) {
 }
 
 void ControlServer::send_line(int fd, const nlohmann::json& message) {
-  std::string line = message.dump() + "\n";
+  // Lenient: a reason or file name from another system need not be valid UTF-8.
+  std::string line = message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   size_t off = 0;
   while (off < line.size()) {
     ssize_t n = ::send(fd, line.data() + off, line.size() - off, MSG_NOSIGNAL);

@@ -112,9 +112,10 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
           std::string line = prog_text.substr(0, nl);
           prog_text.erase(0, nl + 1);
           if (line.rfind("progress ", 0) == 0 && progress) {
+            // Never let a bad line or a failing callback leave the child unreaped.
             try {
               progress(std::stod(line.substr(9)));
-            } catch (const std::invalid_argument&) {
+            } catch (const std::exception&) {
             }
           }
         }

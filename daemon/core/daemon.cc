@@ -1,6 +1,8 @@
 #include "daemon/core/daemon.h"
 
+#include <fcntl.h>
 #include <poll.h>
+#include <sys/file.h>
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <systemd/sd-daemon.h>
@@ -44,6 +46,13 @@ Daemon::Daemon(fs::path config_file, Config initial)
   ::signal(SIGPIPE, SIG_IGN);
 
   const Config& c = *config_;
+  // One daemon per spool: a second one would steal the socket and "recover" live jobs.
+  std::filesystem::create_directories(c.spool_dir);
+  const fs::path lock_file = c.spool_dir / ".atelierd.lock";
+  lock_fd_ = ::open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0 || ::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0)
+    throw std::runtime_error(lock_file.string() + ": another atelierd is already using the spool " +
+                             c.spool_dir.string());
   store_ = std::make_unique<Store>(c.store_path);
   SpoolLayout layout{c.spool_dir};
   jobs_ = std::make_unique<JobService>(*store_, layout, [this](const JobChange& change) {
@@ -91,6 +100,12 @@ Daemon::Daemon(fs::path config_file, Config initial)
 }
 
 Daemon::~Daemon() {
+  // The control thread calls into everything else: stop it first (also when run() threw).
+  if (control_) control_->stop();
+  if (usb_monitor_) usb_monitor_->stop();
+  for (auto& d : devices_) d->stop();
+  if (scheduler_) scheduler_->stop();
+  if (lock_fd_ >= 0) ::close(lock_fd_);
   if (signal_fd_ >= 0) ::close(signal_fd_);
 }
 
@@ -233,14 +248,11 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     auto job = store_->get(id);
     if (!job) throw ControlError("no job " + std::to_string(id));
     Device* device = device_for(*job);
-    if (job->state == JobState::ready) {
-      if (device) device->cancel(id);  // forget a start/arm request
-      jobs_->transition(id, JobState::canceled, "canceled by user before the machine started");
+    if ((job->state == JobState::ready || job->state == JobState::running) && device &&
+        device->cancel(id)) {
+      // Ready: canceled at once. Running: the machine finishes its row, then gets the blank
+      // last line (the job turns canceled then).
       return job_to_json(*store_->get(id));
-    }
-    if (job->state == JobState::running && device && device->cancel(id)) {
-      // The machine finishes the row it is on, then gets the blank last line.
-      return job_to_json(*job);
     }
     if (!scheduler_->cancel(id))
       throw ControlError("job " + std::to_string(id) + " is " + state_name(job->state) +

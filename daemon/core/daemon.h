@@ -50,6 +50,7 @@ class Daemon {
   std::shared_ptr<const Config> config_;
   std::chrono::steady_clock::time_point started_;
   int signal_fd_ = -1;
+  int lock_fd_ = -1;  // flock on <spool>/.atelierd.lock, held for the daemon's life
   std::unique_ptr<Store> store_;
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<JobService> jobs_;

@@ -21,8 +21,8 @@ class Device {
   virtual void wake() = 0;
   // Arms a ready job on a device without autostart. Throws std::runtime_error if not possible.
   virtual void start(int64_t job_id) = 0;
-  // Cancels the job this device is running (it stops after the current row). Returns false
-  // if the device is not running that job.
+  // Cancels a ready job of this device's kinds (at once) or the job it is running (it stops
+  // after the current row). Returns false if the job is neither.
   virtual bool cancel(int64_t job_id) = 0;
   // Continues an interrupted job from pattern row `from_row` (1-based). Throws
   // std::runtime_error naming the problem (bad row, device offline).

@@ -20,6 +20,14 @@ namespace {
 
 constexpr const char* kClaimFile = "claim.json";
 constexpr const char* kReasonFile = "reason.txt";
+// Written into a job folder just before it moves to done/ or failed/: the state the job is
+// going to, so that recover() finishes a move that a crash cut off with the right state.
+constexpr const char* kFinishFile = "finish.json";
+
+// Lenient JSON text: file names from other systems need not be valid UTF-8.
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 // Writes a small file and fsyncs it, so it exists before the next step of a claim.
 void write_durable(const fs::path& file, const std::string& text) {
@@ -119,7 +127,7 @@ std::optional<int64_t> JobService::claim(const fs::path& entry) {
   const fs::path work = layout_.work(id);
   fs::create_directories(work);
   write_durable(work / kClaimFile,
-                nlohmann::json{{"kind", kind}, {"name", name}, {"problem", problem}}.dump());
+                json_text({{"kind", kind}, {"name", name}, {"problem", problem}}));
   if (::rename(entry.c_str(), (work / name).c_str()) != 0) {
     int err = errno;
     fs::remove_all(work, ec);
@@ -158,13 +166,16 @@ int64_t JobService::submit(const fs::path& file, const std::string& kind,
   const fs::path work = layout_.work(id);
   fs::create_directories(work);
   const std::string name = file.filename().string();
-  write_durable(work / kClaimFile, nlohmann::json{{"kind", kind}, {"name", name},
-                                                  {"problem", ""}, {"params", overrides}}.dump());
-  fs::copy_file(file, work / name, fs::copy_options::overwrite_existing, ec);
+  // The copy is complete before claim.json exists: recover() drops a folder without one, so a
+  // crash mid-copy leaves no half file behind as a job.
+  fs::copy_file(file, work / (".copy-" + name), fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(work / (".copy-" + name), work / name, ec);
   if (ec) {
     fs::remove_all(work);
     throw std::runtime_error(file.string() + ": cannot copy: " + ec.message());
   }
+  write_durable(work / kClaimFile,
+                json_text({{"kind", kind}, {"name", name}, {"problem", ""}, {"params", overrides}}));
   fsync_dir(work);
   Job job;
   job.id = id;
@@ -206,12 +217,15 @@ void JobService::finish_converted(int64_t id, JobState to, const std::string& re
   auto job = store_.get(id);
   if (!job) throw std::runtime_error("job " + std::to_string(id) + " does not exist");
   std::error_code ec;
+  write_durable(fs::path(job->work_dir) / kFinishFile,
+                json_text({{"to", state_name(to)}, {"reason", reason}}));
   fs::remove(fs::path(job->work_dir) / kClaimFile, ec);
   fs::remove_all(layout_.done(id), ec);  // a stale folder from an earlier attempt
   fs::rename(job->work_dir, layout_.done(id));
   fsync_dir(layout_.done());
   auto before = job->state;
   store_.transition(id, to, reason, layout_.done(id).string());
+  fs::remove(layout_.done(id) / kFinishFile, ec);
   if (on_change_) on_change_({*store_.get(id), state_name(before), state_name(to), reason});
 }
 
@@ -221,14 +235,18 @@ void JobService::fail(int64_t id, const std::string& reason, JobState to) {
   std::error_code ec;
   if (fs::exists(job->work_dir, ec)) {
     clean_partial_outputs(*job);
-    fs::remove(fs::path(job->work_dir) / kClaimFile, ec);
     write_durable(fs::path(job->work_dir) / kReasonFile, reason + "\n");
+    write_durable(fs::path(job->work_dir) / kFinishFile,
+                  json_text({{"to", state_name(to)}, {"reason", reason}}));
     fs::remove_all(layout_.failed(id), ec);
     fs::rename(job->work_dir, layout_.failed(id));
     fsync_dir(layout_.failed());
   }
   auto before = job->state;
   store_.transition(id, to, reason, layout_.failed(id).string());
+  // Only now: until the row says failed, claim.json tells recover() why (see recover()).
+  fs::remove(layout_.failed(id) / kClaimFile, ec);
+  fs::remove(layout_.failed(id) / kFinishFile, ec);
   if (on_change_) on_change_({*store_.get(id), state_name(before), state_name(to), reason});
 }
 
@@ -246,11 +264,17 @@ void JobService::retry(int64_t id) {
     throw std::runtime_error("job " + std::to_string(id) + " is " + state_name(job->state) +
                              "; only failed, interrupted or canceled jobs can be retried");
   std::error_code ec;
+  const fs::path work = layout_.work(id);
   fs::path from = job->output_dir.empty() ? fs::path(job->work_dir) : fs::path(job->output_dir);
+  // An earlier retry may have moved the input already and been cut off before the state change.
+  if (fs::is_regular_file(fs::symlink_status(work / job->name, ec))) from = work;
+  if (fs::exists(fs::symlink_status(from / job->name, ec)) &&
+      !fs::is_regular_file(fs::symlink_status(from / job->name, ec)))
+    throw std::runtime_error("job " + std::to_string(id) + ": " + job->name +
+                             " is not a regular file and can never be converted; drop a copy instead");
   if (!fs::exists(from / job->name, ec))
     throw std::runtime_error("job " + std::to_string(id) + ": its input " +
                              (from / job->name).string() + " is gone; submit the file again");
-  const fs::path work = layout_.work(id);
   if (from != work) {
     fs::create_directories(work);
     for (const std::string suffix : {"", ".toml", ".relax.png"}) {
@@ -260,6 +284,31 @@ void JobService::retry(int64_t id) {
     fs::remove_all(from, ec);
   }
   transition(id, JobState::queued, "retry requested");
+}
+
+bool JobService::finish_cut_off_move(const Job& job) {
+  std::error_code ec;
+  for (const auto& [folder, fallback] : {std::pair{layout_.done(job.id), JobState::completed},
+                                          std::pair{layout_.failed(job.id), JobState::failed}}) {
+    if (!fs::exists(folder, ec)) continue;
+    JobState to = fallback;
+    std::string reason = fallback == JobState::completed ? "converted (recovered after a restart)" : "";
+    try {
+      auto finish = nlohmann::json::parse(read_text(folder / kFinishFile));
+      to = state_from_name(finish.value("to", "")).value_or(fallback);
+      reason = finish.value("reason", reason);
+    } catch (const std::exception&) {
+      if (reason.empty()) {
+        reason = read_text(folder / kReasonFile);
+        while (!reason.empty() && reason.back() == '\n') reason.pop_back();
+      }
+    }
+    store_.transition(job.id, to, reason, folder.string());
+    fs::remove(folder / kFinishFile, ec);
+    fs::remove(folder / kClaimFile, ec);
+    return true;
+  }
+  return false;
 }
 
 std::vector<int64_t> JobService::recover() {
@@ -296,19 +345,22 @@ std::vector<int64_t> JobService::recover() {
   }
   // 2. Jobs caught mid-way by the crash.
   std::vector<int64_t> queue;
-  for (const auto& job : store_.list(JobFilter{})) {
+  JobFilter every;
+  every.limit = -1;  // all jobs, however many
+  for (const auto& job : store_.list(every)) {
     const bool pending = job.state == JobState::queued || job.state == JobState::converting;
-    if (pending && fs::exists(layout_.done(job.id), ec) && !fs::exists(job.work_dir, ec)) {
-      // Crash after the outputs were moved to done/ but before the row said so.
-      store_.transition(job.id, JobState::completed, "converted (recovered after a restart)",
-                        layout_.done(job.id).string());
-      continue;
-    }
-    if (pending && fs::exists(layout_.failed(job.id), ec) && !fs::exists(job.work_dir, ec)) {
-      std::string reason = read_text(layout_.failed(job.id) / kReasonFile);
-      while (!reason.empty() && reason.back() == '\n') reason.pop_back();
-      store_.transition(job.id, JobState::failed, reason, layout_.failed(job.id).string());
-      continue;
+    if (pending && !fs::exists(job.work_dir, ec) && finish_cut_off_move(job)) continue;
+    if (pending) {
+      // A claim that was rejected (symlink, unknown kind, ...) but whose failure was cut off.
+      std::string problem;
+      try {
+        problem = nlohmann::json::parse(read_text(fs::path(job.work_dir) / kClaimFile)).value("problem", "");
+      } catch (const std::exception&) {
+      }
+      if (!problem.empty()) {
+        fail(job.id, problem);
+        continue;
+      }
     }
     if (job.state == JobState::converting) {
       requeue(job.id, "atelierd restarted during conversion; converting again from scratch");

@@ -78,6 +78,9 @@ class JobService {
 
  private:
   void insert(const Job& job);
+  // A job whose folder reached done/ or failed/ but whose row was not updated (crash between
+  // the two): records the state written in the folder's finish.json. False if neither exists.
+  bool finish_cut_off_move(const Job& job);
   void clean_partial_outputs(const Job& job) const;
 
   Store& store_;

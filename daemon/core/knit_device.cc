@@ -34,6 +34,7 @@ void KnitDevice::stop() {
     std::lock_guard lock(mu_);
     stopping_ = true;
     if (cancel_flag_) cancel_flag_->store(true);
+    if (waiting_link_) waiting_link_->close();
   }
   cv_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -87,11 +88,21 @@ void KnitDevice::start(int64_t job_id) {
 }
 
 bool KnitDevice::cancel(int64_t job_id) {
-  std::lock_guard lock(mu_);
-  resumes_.erase(job_id);
-  armed_.erase(job_id);
-  if (current_ == job_id && cancel_flag_) {
-    cancel_flag_->store(true);
+  // Under the claim lock a ready job cannot turn running behind our back (next_work()).
+  std::lock_guard claim(g_claim_mu);
+  {
+    std::lock_guard lock(mu_);
+    resumes_.erase(job_id);
+    armed_.erase(job_id);
+    if (current_ == job_id && cancel_flag_) {
+      cancel_flag_->store(true);
+      if (waiting_link_) waiting_link_->close();  // still waiting for the carriage: stop now
+      return true;
+    }
+  }
+  auto job = jobs_.store().get(job_id);
+  if (job && job->state == JobState::ready && takes(job->kind)) {
+    jobs_.transition(job_id, JobState::canceled, "canceled by user before the machine started");
     return true;
   }
   return false;
@@ -127,27 +138,35 @@ ayab::PlanParams KnitDevice::plan_params() const {
 
 std::optional<KnitDevice::Work> KnitDevice::next_work() {
   std::lock_guard claim(g_claim_mu);
+  std::optional<Work> work;
   {
     std::lock_guard lock(mu_);
-    while (!resumes_.empty()) {
+    while (!work && !resumes_.empty()) {
       auto [id, row] = *resumes_.begin();
       resumes_.erase(resumes_.begin());
       auto job = jobs_.store().get(id);
-      if (job && job->state == JobState::interrupted) return Work{id, row};
+      if (job && job->state == JobState::interrupted) work = Work{id, row};
     }
   }
-  JobFilter filter;
-  filter.state = JobState::ready;
-  auto ready = jobs_.store().list(filter);
-  for (auto it = ready.rbegin(); it != ready.rend(); ++it) {  // oldest first
-    if (!takes(it->kind)) continue;
-    std::lock_guard lock(mu_);
-    if (config_.autostart || armed_.count(it->id)) {
-      armed_.erase(it->id);
-      return Work{it->id, 1};
+  if (!work) {
+    JobFilter filter;
+    filter.state = JobState::ready;
+    filter.limit = -1;
+    auto ready = jobs_.store().list(filter);
+    for (auto it = ready.rbegin(); it != ready.rend() && !work; ++it) {  // oldest first
+      if (!takes(it->kind)) continue;
+      std::lock_guard lock(mu_);
+      if (config_.autostart || armed_.count(it->id)) {
+        armed_.erase(it->id);
+        work = Work{it->id, 1};
+      }
     }
   }
-  return std::nullopt;
+  if (work) {
+    const std::string from_text = work->from_row > 1 ? " from row " + std::to_string(work->from_row) : "";
+    jobs_.transition(work->id, JobState::running, "knitting on " + config_.name + from_text, config_.name);
+  }
+  return work;
 }
 
 void KnitDevice::worker() {
@@ -206,8 +225,6 @@ void KnitDevice::knit(const Work& work) {
     }
   } clear{this};
 
-  const std::string from_text = work.from_row > 1 ? " from row " + std::to_string(work.from_row) : "";
-  jobs_.transition(id, JobState::running, "knitting on " + config_.name + from_text, config_.name);
   set_state("busy", job_tag(id));
 
   // Rows knitted so far, counted from 1 as the knitter counts them.
@@ -225,9 +242,25 @@ void KnitDevice::knit(const Work& work) {
     auto port = resolve_();
     if (!port) throw LinkLost("the machine is not connected");
     std::unique_ptr<Transport> link = open_(*port);
+    struct WaitingLink {  // cleared however this scope is left
+      KnitDevice* d;
+      ~WaitingLink() {
+        std::lock_guard lock(d->mu_);
+        d->waiting_link_ = nullptr;
+      }
+    } waiting{this};
+    {
+      std::lock_guard lock(mu_);
+      if (cancel->load()) throw LinkLost("canceled before the machine was ready");
+      waiting_link_ = link.get();
+    }
     ayab::HostSession session(*link, timeouts_);
     session.connect();
     session.init(plan.machine);
+    {
+      std::lock_guard lock(mu_);
+      waiting_link_ = nullptr;
+    }
     knitting_started = true;
     const int from_pass = (work.from_row - 1) * plan.passes_per_row;
     session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
@@ -255,6 +288,22 @@ void KnitDevice::knit(const Work& work) {
                        "knitted " + std::to_string(total_rows) + " rows on " + config_.name);
     }
   } catch (const LinkLost& e) {
+    if (cancel->load() && !knitting_started) {
+      // Closed on purpose (cancel or daemon stop) while waiting for the carriage.
+      bool daemon_stopping;
+      {
+        std::lock_guard lock(mu_);
+        daemon_stopping = stopping_;
+      }
+      if (daemon_stopping)
+        jobs_.transition(id, JobState::interrupted, "atelierd stopped before the machine was ready; "
+                         "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
+                         std::to_string(rows_done + 1));
+      else
+        jobs_.transition(id, JobState::canceled, "canceled by user before knitting started");
+      log::info(job_tag(id) + ": " + jobs_.store().get(id)->reason);
+      return;
+    }
     set_state("offline", e.what());
     jobs_.transition(id, JobState::interrupted,
                      "device disconnected after row " + std::to_string(rows_done) +

@@ -54,6 +54,8 @@ class KnitDevice : public Device {
     int from_row;  // 1-based pattern row to start at
   };
   void worker();
+  // Picks the next job and marks it running (ready/interrupted -> running) under the claim
+  // lock, so a concurrent cancel sees either the ready job or the running one.
   std::optional<Work> next_work();
   void knit(const Work& work);
   void set_state(const std::string& state, const std::string& detail);
@@ -75,6 +77,10 @@ class KnitDevice : public Device {
   std::string port_;
   std::optional<int64_t> current_;
   std::shared_ptr<std::atomic<bool>> cancel_flag_;
+  // The open link while a job waits for the machine to become ready (a person has to move
+  // the carriage, which may never happen): stop() and cancel() close it to end the wait.
+  // Null while rows are being knitted: then cancel ends cleanly after the current row.
+  Transport* waiting_link_ = nullptr;
   std::set<int64_t> armed_;
   std::map<int64_t, int> resumes_;  // job -> from_row
   std::thread thread_;

@@ -114,3 +114,15 @@ TEST(E2EDaemon, ConfigErrorsStopTheDaemonWithFileLineAndKey) {
                                         "--config", (fs::path(ATELIER_SOURCE_DIR) / "config/atelierd.toml").string()});
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
+
+TEST(E2EDaemon, ASecondDaemonOnTheSameSpoolIsRefusedAndTheFirstKeepsServing) {
+  TempDir tmp;
+  DaemonProcess daemon(tmp.path());
+  daemon.start();
+  auto second = atelier::test::run_command(
+      {atelier::test::binary("atelierd").string(), "--config", daemon.config().string()});
+  EXPECT_EQ(second.exit_code, 1);
+  EXPECT_NE(second.err.find("another atelierd"), std::string::npos) << second.err;
+  EXPECT_TRUE(daemon.request("status")["ok"]);
+  EXPECT_EQ(daemon.stop(SIGTERM), 0);
+}
