@@ -1,5 +1,7 @@
 #include "drivers/ayab/host_session.h"
 
+#include <optional>
+
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
@@ -162,20 +164,30 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   bool ended = false;  // blank last line sent
   auto last_rx = Clock::now();
   auto last_tx = last_rx;
+  // A knitter may pause between rows for as long as they like, and the firmware says nothing
+  // meanwhile. After `silent` without a word we ask for cnfInfo: a live machine answers it in
+  // any state; only a machine that does not answer within `reply` is declared silent.
+  std::optional<Clock::time_point> probe_until;
   while (!ended) {
-    const auto silent_at = last_rx + timeouts_.silent;
+    const auto silent_at = probe_until ? *probe_until : last_rx + timeouts_.silent;
     const auto deadline = last_sent ? std::min(silent_at, last_tx + timeouts_.line_resend) : silent_at;
     auto m = receive(deadline);
     const auto now = Clock::now();
     if (!m) {
-      if (now >= silent_at)
-        throw AyabError("the knitting machine went silent after row " + std::to_string(done / per_row));
+      if (now >= silent_at) {
+        if (probe_until)
+          throw AyabError("the knitting machine went silent after row " + std::to_string(done / per_row));
+        send(ReqInfo{});
+        probe_until = now + timeouts_.reply;
+        continue;
+      }
       // A cnfLine with a bad CRC is dropped without a word: say it again.
       send(*last_sent);
       last_tx = now;
       continue;
     }
     last_rx = now;
+    probe_until.reset();
     const auto* req = std::get_if<ReqLine>(&*m);
     if (!req) continue;  // indState, debug, stray confirmations
     if (req->error != err::success)

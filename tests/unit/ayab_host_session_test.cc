@@ -2,6 +2,8 @@
 // plays the firmware with canned replies and injected faults.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <atomic>
 #include <mutex>
 #include <thread>
@@ -23,6 +25,8 @@ struct PeerScript {
   int repeat_request_of = -1;    // ask for this line a second time (once)
   int disconnect_after = -1;     // unplug after receiving this line
   int silent_after = -1;         // stop answering after receiving this line
+  int pause_after = -1;          // the knitter stops after this line (reqInfo still answered)
+  std::chrono::milliseconds pause{0};
 };
 
 // Plays an AYAB v6 firmware on one end of a memory pair, recording what the host sent.
@@ -62,8 +66,14 @@ class ScriptedFirmware {
     uint8_t buf[256];
     int expected = 0;
     bool silent = false;
+    std::optional<std::chrono::steady_clock::time_point> paused_until;
+    uint8_t paused_request = 0;
     try {
       while (!stop_) {
+        if (paused_until && std::chrono::steady_clock::now() >= *paused_until) {
+          paused_until.reset();
+          send(ReqLine{paused_request, 0});
+        }
         const size_t n = link_.read(buf, sizeof buf, 20ms);
         for (const Bytes& packet : dec.feed(buf, n)) {
           auto r = decode(packet, line_bytes_);
@@ -86,6 +96,9 @@ class ScriptedFirmware {
             send(CnfStart{script_.start_error});
             if (script_.start_error == 0) send(ReqLine{0, 0});
           } else if (const auto* c = std::get_if<CnfLine>(&m)) {
+            // While the carriage stands still the firmware still holds the line it has: a
+            // re-sent copy of it changes nothing.
+            if (paused_until && c->line == static_cast<uint8_t>((expected - 1) & 0xFF)) continue;
             if (c->line != static_cast<uint8_t>(expected & 0xFF)) {
               send(ReqLine{static_cast<uint8_t>(expected & 0xFF), 0});  // wrong line number
               continue;
@@ -113,6 +126,12 @@ class ScriptedFirmware {
               continue;
             }
             const int next = expected == script_.wrong_request_after ? expected + 3 : expected + 1;
+            if (expected == script_.pause_after) {
+              ++expected;
+              paused_until = std::chrono::steady_clock::now() + script_.pause;
+              paused_request = static_cast<uint8_t>(next & 0xFF);
+              continue;
+            }
             ++expected;
             send(ReqLine{static_cast<uint8_t>(next & 0xFF), 0});
           }
@@ -367,6 +386,22 @@ TEST(AyabHostSession, StartErrorIsReported) {
     EXPECT_NE(std::string(e.what()).find("bad arguments"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("80..119"), std::string::npos) << e.what();
   }
+}
+
+TEST(AyabHostSession, AKnitterPausingLongerThanTheSilenceLimitIsNotASilentMachine) {
+  auto [host, fw] = make_memory_pair();
+  PeerScript script;
+  script.pause_after = 2;
+  script.pause = 1500ms;  // well over `silent`: the machine answers reqInfo meanwhile
+  ScriptedFirmware peer(*fw, script, 25);
+  SessionTimeouts t = fast();
+  t.silent = 400ms;
+  HostSession s(*host, t);
+  s.connect();
+  s.init(MachineType::kh930);
+  KnitRun run;
+  EXPECT_EQ(s.knit(plan_of(6), 0, run.callback(), run.cancel), 6);
+  EXPECT_EQ(peer.lines().size(), 7u);  // 6 rows and the blank last line
 }
 
 TEST(AyabHostSession, SilentMachineFailsNamingTheRow) {
