@@ -102,6 +102,7 @@ void Scheduler::convert_one(int64_t id) {
   {
     std::lock_guard lock(mu_);
     running_[id] = flag;
+    if (stopping_) flag->store(true);  // stop() swept the flags just before we registered
   }
   struct Release {
     Scheduler* s;
