@@ -4,42 +4,26 @@
 // confirmed passes is one reqLine -> cnfLine round trip. Target: p99 under 5 ms (a real
 // carriage waits on it).
 #include <benchmark/benchmark.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <random>
 #include <thread>
 
 #include "drivers/ayab/host_session.h"
 #include "drivers/ayab/knit_plan.h"
 #include "drivers/serial_transport.h"
+#include "tests/e2e/daemon_harness.h"
 
-extern char** environ;
 namespace fs = std::filesystem;
 
 static void BM_AyabLineRoundTrip(benchmark::State& state) {
-  std::string tmpl = (fs::temp_directory_path() / "atelier-bench-XXXXXX").string();
-  const fs::path dir = mkdtemp(tmpl.data());
-  const fs::path link = dir / "knitter";
-  std::vector<std::string> argv = {std::string(ATELIER_BINARY_DIR) + "/bin/atelier-knit-emu",
-                                   "--machine", "kh930", "--link", link.string(),
-                                   "--row-ms", "0", "--boot-ms", "0"};
-  std::vector<char*> args;
-  for (auto& a : argv) args.push_back(a.data());
-  args.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  pid_t pid;
-  if (posix_spawn(&pid, args[0], &fa, nullptr, args.data(), environ) != 0) {
-    state.SkipWithError("cannot start atelier-knit-emu");
-    return;
-  }
+  atelier::test::TempDir dir;
+  const fs::path link = dir.path() / "knitter";
+  atelier::test::BackgroundProcess emulator(
+      {atelier::test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+       link.string(), "--row-ms", "0", "--boot-ms", "0"},
+      dir.path() / "emulator.log");
   for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
 
   const int rows = static_cast<int>(state.range(0));
@@ -61,9 +45,6 @@ static void BM_AyabLineRoundTrip(benchmark::State& state) {
     }, cancel);
     link_port->close();
   }
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
-  fs::remove_all(dir);
   if (round_trips_ms.empty()) return;
   std::sort(round_trips_ms.begin(), round_trips_ms.end());
   auto pct = [&](double p) { return round_trips_ms[static_cast<size_t>(p * (round_trips_ms.size() - 1))]; };

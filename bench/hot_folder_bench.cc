@@ -11,12 +11,13 @@
 #include "daemon/core/hot_folder.h"
 #include "daemon/core/job_service.h"
 #include "daemon/core/store.h"
+#include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
 
 static void BM_HotFolderPickup(benchmark::State& state) {
-  std::string tmpl = (fs::temp_directory_path() / "atelier-bench-XXXXXX").string();
-  fs::path root = mkdtemp(tmpl.data());
+  atelier::test::TempDir tmp;
+  const fs::path root = tmp.path();
   atelier::SpoolLayout layout{root / "spool"};
   atelier::Store store(root / "jobs.sqlite");
   atelier::JobService jobs(store, layout, nullptr);
@@ -40,6 +41,5 @@ static void BM_HotFolderPickup(benchmark::State& state) {
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - closed).count());
   }
   state.SetLabel("100 kB file, inotify, claim + SQLite commit");
-  fs::remove_all(root);
 }
 BENCHMARK(BM_HotFolderPickup)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(50);

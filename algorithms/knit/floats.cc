@@ -29,24 +29,26 @@ void check_problem(const cv::Mat& grid, const FloatRules& rules, const char* who
 
 }  // namespace detail
 
+namespace {
+long row_violations(const detail::RowView& r) {
+  long total = 0;
+  r.for_each_run([&](int s, int len) { total += r.run_violations(s, len); });
+  return total;
+}
+}  // namespace
+
 long count_row_violations(const cv::Mat& grid, int row, const FloatRules& rules) {
   detail::check_problem(grid, rules, "count_row_violations");
   if (row < 0 || row >= grid.rows)
     throw std::invalid_argument("count_row_violations: row " + std::to_string(row) +
                                 " is outside the grid");
-  const detail::RowView r = detail::row_view(grid, rules, row);
-  long total = 0;
-  r.for_each_run([&](int s, int len) { total += r.run_violations(s, len); });
-  return total;
+  return row_violations(detail::row_view(grid, rules, row));
 }
 
 long count_violations(const cv::Mat& grid, const FloatRules& rules) {
   detail::check_problem(grid, rules, "count_violations");
   long total = 0;
-  for (int y = 0; y < grid.rows; ++y) {
-    const detail::RowView r = detail::row_view(grid, rules, y);
-    r.for_each_run([&](int s, int len) { total += r.run_violations(s, len); });
-  }
+  for (int y = 0; y < grid.rows; ++y) total += row_violations(detail::row_view(grid, rules, y));
   return total;
 }
 

@@ -213,20 +213,28 @@ void JobService::clean_partial_outputs(const Job& job) const {
     if (!keep.count(entry.path().filename().string())) fs::remove_all(entry.path(), ec);
 }
 
+void JobService::move_and_record(const Job& job, const fs::path& folder, JobState to,
+                                 const std::string& reason) {
+  std::error_code ec;
+  if (fs::exists(job.work_dir, ec)) {
+    // finish.json first: a crash between the rename and the row is finished by recover().
+    write_durable(fs::path(job.work_dir) / kFinishFile,
+                  json_text({{"to", state_name(to)}, {"reason", reason}}));
+    fs::remove_all(folder, ec);  // a stale folder from an earlier attempt
+    fs::rename(job.work_dir, folder);
+    fsync_dir(folder.parent_path());
+  }
+  store_.transition(job.id, to, reason, folder.string());
+  // Only now: until the row has changed, claim.json tells recover() what the job was.
+  fs::remove(folder / kClaimFile, ec);
+  fs::remove(folder / kFinishFile, ec);
+  if (on_change_) on_change_({*store_.get(job.id), state_name(job.state), state_name(to), reason});
+}
+
 void JobService::finish_converted(int64_t id, JobState to, const std::string& reason) {
   auto job = store_.get(id);
   if (!job) throw std::runtime_error("job " + std::to_string(id) + " does not exist");
-  std::error_code ec;
-  write_durable(fs::path(job->work_dir) / kFinishFile,
-                json_text({{"to", state_name(to)}, {"reason", reason}}));
-  fs::remove(fs::path(job->work_dir) / kClaimFile, ec);
-  fs::remove_all(layout_.done(id), ec);  // a stale folder from an earlier attempt
-  fs::rename(job->work_dir, layout_.done(id));
-  fsync_dir(layout_.done());
-  auto before = job->state;
-  store_.transition(id, to, reason, layout_.done(id).string());
-  fs::remove(layout_.done(id) / kFinishFile, ec);
-  if (on_change_) on_change_({*store_.get(id), state_name(before), state_name(to), reason});
+  move_and_record(*job, layout_.done(id), to, reason);
 }
 
 void JobService::fail(int64_t id, const std::string& reason, JobState to) {
@@ -236,18 +244,8 @@ void JobService::fail(int64_t id, const std::string& reason, JobState to) {
   if (fs::exists(job->work_dir, ec)) {
     clean_partial_outputs(*job);
     write_durable(fs::path(job->work_dir) / kReasonFile, reason + "\n");
-    write_durable(fs::path(job->work_dir) / kFinishFile,
-                  json_text({{"to", state_name(to)}, {"reason", reason}}));
-    fs::remove_all(layout_.failed(id), ec);
-    fs::rename(job->work_dir, layout_.failed(id));
-    fsync_dir(layout_.failed());
   }
-  auto before = job->state;
-  store_.transition(id, to, reason, layout_.failed(id).string());
-  // Only now: until the row says failed, claim.json tells recover() why (see recover()).
-  fs::remove(layout_.failed(id) / kClaimFile, ec);
-  fs::remove(layout_.failed(id) / kFinishFile, ec);
-  if (on_change_) on_change_({*store_.get(id), state_name(before), state_name(to), reason});
+  move_and_record(*job, layout_.failed(id), to, reason);
 }
 
 void JobService::requeue(int64_t id, const std::string& reason) {

@@ -82,6 +82,9 @@ class JobService {
   // the two): records the state written in the folder's finish.json. False if neither exists.
   bool finish_cut_off_move(const Job& job);
   void clean_partial_outputs(const Job& job) const;
+  // The shared end of finish_converted() and fail(): work/<id> -> `folder`, row -> `to`.
+  void move_and_record(const Job& job, const std::filesystem::path& folder, JobState to,
+                       const std::string& reason);
 
   Store& store_;
   SpoolLayout layout_;

@@ -15,6 +15,12 @@ std::mutex g_claim_mu;
 
 std::string job_tag(int64_t id) { return "job " + std::to_string(id); }
 
+// How the user continues a job that stopped after `rows_done` rows.
+std::string resume_hint(int64_t id, int rows_done) {
+  return "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
+         std::to_string(rows_done + 1);
+}
+
 }  // namespace
 
 KnitDevice::KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
@@ -206,6 +212,26 @@ void KnitDevice::worker() {
   }
 }
 
+void KnitDevice::end_early(int64_t id, int rows_done, bool knitting_started) {
+  bool daemon_stopping;
+  {
+    std::lock_guard lock(mu_);
+    daemon_stopping = stopping_;
+  }
+  if (daemon_stopping) {
+    // Never canceled by a shutdown, and never resumed without an operator.
+    jobs_.transition(id, JobState::interrupted, "atelierd stopped after row " +
+                                                    std::to_string(rows_done) + "; " +
+                                                    resume_hint(id, rows_done));
+  } else if (knitting_started) {
+    jobs_.transition(id, JobState::canceled,
+                     "canceled after row " + std::to_string(rows_done) +
+                         "; the machine was sent the blank last line and is ready");
+  } else {
+    jobs_.transition(id, JobState::canceled, "canceled by user before knitting started");
+  }
+}
+
 void KnitDevice::knit(const Work& work) {
   const int64_t id = work.id;
   auto job = jobs_.store().get(id);
@@ -269,52 +295,26 @@ void KnitDevice::knit(const Work& work) {
                      "knitted row " + std::to_string(rows_done) + " of " + std::to_string(total_rows));
     }, *cancel);
     link->close();
-    bool daemon_stopping;
-    {
-      std::lock_guard lock(mu_);
-      daemon_stopping = stopping_;
-    }
-    if (cancel->load() && daemon_stopping) {
-      jobs_.transition(id, JobState::interrupted,
-                       "atelierd stopped after row " + std::to_string(rows_done) +
-                           "; continue with: atelierctl resume " + std::to_string(id) +
-                           " --from-row " + std::to_string(rows_done + 1));
-    } else if (cancel->load()) {
-      jobs_.transition(id, JobState::canceled,
-                       "canceled after row " + std::to_string(rows_done) +
-                           "; the machine was sent the blank last line and is ready");
+    if (cancel->load()) {
+      end_early(id, rows_done, true);
     } else {
       jobs_.transition(id, JobState::completed,
                        "knitted " + std::to_string(total_rows) + " rows on " + config_.name);
     }
   } catch (const LinkLost& e) {
     if (cancel->load() && !knitting_started) {
-      // Closed on purpose (cancel or daemon stop) while waiting for the carriage.
-      bool daemon_stopping;
-      {
-        std::lock_guard lock(mu_);
-        daemon_stopping = stopping_;
-      }
-      if (daemon_stopping)
-        jobs_.transition(id, JobState::interrupted, "atelierd stopped before the machine was ready; "
-                         "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
-                         std::to_string(rows_done + 1));
-      else
-        jobs_.transition(id, JobState::canceled, "canceled by user before knitting started");
-      log::info(job_tag(id) + ": " + jobs_.store().get(id)->reason);
-      return;
+      end_early(id, rows_done, false);  // the link was closed on purpose, during the wait
+    } else {
+      set_state("offline", e.what());
+      jobs_.transition(id, JobState::interrupted, "device disconnected after row " +
+                                                      std::to_string(rows_done) + "; " +
+                                                      resume_hint(id, rows_done));
     }
-    set_state("offline", e.what());
-    jobs_.transition(id, JobState::interrupted,
-                     "device disconnected after row " + std::to_string(rows_done) +
-                         "; continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
-                         std::to_string(rows_done + 1));
   } catch (const ayab::AyabError& e) {
     if (knitting_started) {
       jobs_.transition(id, JobState::interrupted,
-                       std::string(e.what()) + " (after row " + std::to_string(rows_done) +
-                           "; continue with: atelierctl resume " + std::to_string(id) +
-                           " --from-row " + std::to_string(rows_done + 1) + ")");
+                       std::string(e.what()) + " (after row " + std::to_string(rows_done) + "; " +
+                           resume_hint(id, rows_done) + ")");
     } else {
       jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
     }

@@ -58,6 +58,9 @@ class KnitDevice : public Device {
   // lock, so a concurrent cancel sees either the ready job or the running one.
   std::optional<Work> next_work();
   void knit(const Work& work);
+  // The job stopped on purpose (cancel, or the daemon stopping): canceled, or interrupted
+  // when the daemon stops (so it is never resumed without an operator).
+  void end_early(int64_t id, int rows_done, bool knitting_started);
   void set_state(const std::string& state, const std::string& detail);
   nlohmann::json current_job_json(int64_t id) const;  // {"id", "name", "progress"}
   ayab::PlanParams plan_params() const;

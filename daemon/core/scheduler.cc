@@ -149,13 +149,13 @@ void Scheduler::convert_one(int64_t id) {
   switch (outcome.status) {
     case ConversionOutcome::Status::ok:
     {
-      jobs_.store().set_progress(id, 100, 100);
       const std::string device = device_for_kind_ ? device_for_kind_(job->kind) : "";
       if (device.empty()) {
+        jobs_.store().set_progress(id, 100, 100);
         jobs_.finish_converted(id, JobState::completed, "converted; no device for kind " + job->kind);
         log::info("job " + std::to_string(id) + ": completed");
       } else {
-        jobs_.store().set_progress(id, 0, 0);  // device progress (rows) starts now
+        jobs_.store().set_progress(id, 0, 0);  // from here progress counts the device's rows
         jobs_.finish_converted(id, JobState::ready, "converted; waiting for " + device);
         if (on_ready_) on_ready_();
       }
