@@ -31,7 +31,7 @@
 #include "drivers/ayab/messages.h"
 #include "tools/knit_emu/faults.h"
 #include "tools/knit_emu/firmware.h"
-#include "tools/knit_emu/pty_link.h"
+#include "tools/emu/pty_link.h"
 
 namespace {
 
@@ -39,7 +39,7 @@ using atelier::knit_emu::Faults;
 using atelier::knit_emu::Firmware;
 using atelier::knit_emu::FirmwareOptions;
 using atelier::knit_emu::KnittedRow;
-using atelier::knit_emu::PtyLink;
+using atelier::emu::PtyLink;
 namespace ab = atelier::ayab;
 
 volatile std::sig_atomic_t g_stop = 0;

@@ -169,11 +169,13 @@ int main(int argc, char** argv) {
   add_id(cancel);
   auto* retry = app.add_subcommand("retry", "re-queue a failed, interrupted or canceled job");
   add_id(retry);
-  auto* resume = app.add_subcommand("resume", "knitting: continue a job from a row");
+  auto* resume = app.add_subcommand(
+      "resume", "knitting: continue an interrupted job from a row; laser: release a feed hold");
   add_id(resume);
-  resume->add_option("--from-row", from_row, "row to continue from")
-      ->required()
-      ->check(integer_at_least(0));
+  resume->add_option("--from-row", from_row, "knitting: pattern row to continue from")
+      ->check(integer_at_least(1));
+  auto* hold = app.add_subcommand("hold", "laser: feed hold (motion stops, beam off)");
+  add_id(hold);
   auto* devices = app.add_subcommand("devices", "name, driver, port, state, current job");
   add_json(devices);
   auto* watch = app.add_subcommand("watch", "follow state changes live");
@@ -211,14 +213,18 @@ int main(int argc, char** argv) {
     } else if (submit->parsed()) {
       cmd = Command{"submit", {{"path", absolute_path(file)}, {"kind", kind}, {"set", sets}},
                     false, render_job_or_value};
-    } else if (start->parsed() || cancel->parsed() || retry->parsed() || frame->parsed()) {
+    } else if (start->parsed() || cancel->parsed() || retry->parsed() || frame->parsed() ||
+               hold->parsed()) {
       std::string verb = start->parsed()    ? "start"
                          : cancel->parsed() ? "cancel"
                          : retry->parsed()  ? "retry"
+                         : hold->parsed()   ? "hold"
                                             : "frame";
       cmd = Command{verb, {{"id", id}}, false, render_job_or_value};
     } else if (resume->parsed()) {
-      cmd = Command{"resume", {{"id", id}, {"from_row", from_row}}, false, render_job_or_value};
+      json resume_args = {{"id", id}};
+      if (from_row > 0) resume_args["from_row"] = from_row;
+      cmd = Command{"resume", resume_args, false, render_job_or_value};
     } else if (devices->parsed()) {
       cmd.verb = "devices";
       cmd.render = atelier::ctl::format_devices;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "daemon/convert/cut_job.h"
 #include "daemon/convert/knit_job.h"
 #include "daemon/convert/knit_params.h"
 #include "daemon/convert/param_table.h"
@@ -18,7 +19,7 @@ std::string kind_list() {
 }  // namespace
 
 const std::vector<std::string>& known_kinds() {
-  static const std::vector<std::string> kinds{"knit"};
+  static const std::vector<std::string> kinds{"knit", "cut"};
   return kinds;
 }
 
@@ -33,6 +34,10 @@ void validate_kind_params(const std::string& kind, const toml::table& params,
     read_knit_params(params, source);
     return;
   }
+  if (kind == "cut") {
+    read_cut_params(params, source);
+    return;
+  }
   throw ParamError(source + ": unknown kind '" + kind + "' (known: " + kind_list() + ")");
 }
 
@@ -43,6 +48,7 @@ ConvertResult convert(const ConvertRequest& request) {
   }
   // OpenCV reports bad data (and its own limits) by exception; the user sees the file name.
   try {
+    if (request.kind == "cut") return convert_cut(request);
     return convert_knit(request);
   } catch (const cv::Exception& e) {
     throw ConvertError(request.input.filename().string() + ": image processing failed: " +

@@ -1,18 +1,29 @@
 #include "daemon/core/config.h"
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "daemon/convert/convert.h"
+#include "daemon/convert/laser_params.h"
 #include "daemon/convert/param_table.h"
 
 namespace atelier {
 namespace {
 
-// Drivers this build can run. The grbl and file-drop drivers arrive with their issues; until
-// then a [[device]] naming them is refused rather than silently ignored.
-const std::vector<std::string> kAvailableDrivers = {"ayab"};
+// Drivers this build can run. The file-drop driver arrives with its issue; until then a
+// [[device]] naming it is refused rather than silently ignored.
+const std::vector<std::string> kAvailableDrivers = {"ayab", "grbl"};
+
+// The kinds whose conversions make laser G-code (and read the [laser] table), as far as this
+// build converts them.
+std::vector<std::string> laser_kinds() {
+  std::vector<std::string> out;
+  for (const char* k : {"cut", "parquetry", "sketch"})
+    if (is_known_kind(k)) out.push_back(k);
+  return out;
+}
 
 DeviceConfig read_device(const toml::table& t, const std::string& source, size_t index) {
   TableReader r(t, source, "device[" + std::to_string(index) + "]");
@@ -23,9 +34,11 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   d.port = r.get_string("port", "");
   d.usb = r.get_string("usb", "");
   const bool knitter = d.driver == "ayab";
+  const bool laser = d.driver == "grbl";
   d.machine = knitter ? r.get_choice("machine", "kh930", {"kh910", "kh930", "kh270"})
                       : r.get_string("machine", "");
   d.kinds = r.get_string_list("kinds", knitter ? std::vector<std::string>{"knit"}
+                                       : laser ? laser_kinds()
                                                : std::vector<std::string>{});
   d.autostart = r.get_bool("autostart", knitter);
   d.dir = r.get_string("dir", "");
@@ -37,9 +50,16 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
     d.first_row = r.get_choice("first_row", "top", {"top", "bottom"});
     d.mirror = r.get_bool("mirror", false);
   }
+  if (laser) d.streaming = r.get_choice("streaming", d.streaming, {"character-counting", "send-response"});
   r.finish();
   if (knitter && d.kinds.empty()) r.fail("kinds", "a knitting machine needs at least one kind, e.g. [\"knit\"]");
-  if (knitter && d.port.empty() && d.usb.empty())
+  if (laser) {
+    const auto takes = laser_kinds();
+    for (const auto& k : d.kinds)
+      if (is_known_kind(k) && std::find(takes.begin(), takes.end(), k) == takes.end())
+        r.fail("kinds", "a laser cannot run '" + k + "' jobs; it takes cut, parquetry and sketch");
+  }
+  if ((knitter || laser) && d.port.empty() && d.usb.empty())
     r.fail("name", "device '" + d.name + "' needs port = \"/dev/ttyACM0\" or usb = \"2341:0043\"");
   for (const auto& k : d.kinds)
     if (!is_known_kind(k)) r.fail("kinds", "unknown kind '" + k + "'");
@@ -96,6 +116,14 @@ Config from_table(const toml::table& root, const std::string& source) {
     const toml::table empty;
     validate_kind_params(kind, t ? *t : empty, source);
     c.kind_defaults[kind] = t ? *t : empty;
+  }
+  {
+    // [laser]: validated here, handed to the laser kinds' conversions under "laser".
+    const toml::table* t = top.get_table("laser");
+    const toml::table empty;
+    c.laser_check_first = read_laser_params(t ? *t : empty, source).check_first;
+    if (t)
+      for (const auto& kind : laser_kinds()) c.kind_defaults[kind].insert_or_assign("laser", *t);
   }
   if (const toml::array* devices = top.get_array("device")) {
     size_t i = 0;

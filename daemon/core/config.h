@@ -32,6 +32,9 @@ struct DeviceConfig {
   int start_needle = -1;             // leftmost needle, 1-based as on the bed; -1 = centred
   std::string first_row = "top";     // pattern.png row knitted first: top | bottom
   bool mirror = false;               // pattern column 0 on the rightmost needle instead
+  // grbl: how G-code is streamed: "character-counting" (fast; keeps GRBL's receive buffer
+  // full) or "send-response" (one line at a time, for controllers that misreport it).
+  std::string streaming = "character-counting";
 };
 
 struct Config {
@@ -55,7 +58,12 @@ struct Config {
   int workers = 2;                   // conversions at once
 
   // [knit] ... : each kind's default parameters, validated, merged under each job's own.
+  // The laser kinds' defaults also carry the `[laser]` table under the key "laser" (layers,
+  // work area, power scale), which their conversions read.
   std::map<std::string, toml::table> kind_defaults;
+
+  // [laser] check_first: lasers dry-run every job in GRBL check mode before the real run.
+  bool laser_check_first = false;
 
   std::vector<DeviceConfig> devices;  // [[device]]
 };

@@ -17,6 +17,7 @@
 #include "daemon/convert/param_table.h"
 #include "daemon/core/job_json.h"
 #include "daemon/core/knit_device.h"
+#include "daemon/core/laser_device.h"
 #include "drivers/serial_transport.h"
 #include "drivers/usb_device.h"
 #include "daemon/core/log.h"
@@ -68,8 +69,7 @@ Daemon::Daemon(fs::path config_file, Config initial)
   runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
   scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
   for (const DeviceConfig& d : c.devices) {
-    // The driver is "ayab": the only one config.cc accepts in this build.
-    KnitDevice::PortResolver resolve;
+    DeviceWorker::PortResolver resolve;
     if (!d.usb.empty()) {
       const UsbId id = parse_usb_id(d.usb);
       resolve = [id] { return find_usb_tty(id); };
@@ -83,7 +83,15 @@ Daemon::Daemon(fs::path config_file, Config initial)
     auto opener = [](const std::string& port) -> std::unique_ptr<Transport> {
       return SerialTransport::open(port);
     };
-    devices_.push_back(std::make_unique<KnitDevice>(d, *jobs_, opener, resolve));
+    if (d.driver == "grbl") {
+      LaserOptions options;
+      options.check_first = c.laser_check_first;
+      options.mode = d.streaming == "send-response" ? grbl::StreamMode::send_response
+                                                    : grbl::StreamMode::character_counting;
+      devices_.push_back(std::make_unique<LaserDevice>(d, *jobs_, opener, resolve, options));
+    } else {  // "ayab"; config.cc accepts no other driver in this build
+      devices_.push_back(std::make_unique<KnitDevice>(d, *jobs_, opener, resolve));
+    }
   }
   scheduler_->set_device_hooks(
       [this](const std::string& kind) -> std::string {
@@ -275,28 +283,29 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     scheduler_->enqueue(id);
     return job_to_json(*store_->get(id));
   }
-  if (verb == "start" || verb == "resume") {
+  if (verb == "start" || verb == "resume" || verb == "hold" || verb == "frame") {
     const int64_t id = job_id_arg(args);
     Device& device = device_of_job(id);
     try {
       if (verb == "start") {
         device.start(id);
+      } else if (verb == "hold") {
+        device.hold(id);
+      } else if (verb == "frame") {
+        device.frame(id);
       } else {
-        if (!args.contains("from_row") || !args["from_row"].is_number_integer())
-          throw ControlError("resume needs an integer \"from_row\"");
-        device.resume(id, args["from_row"].get<int>());
+        int from_row = 0;  // none: a laser's feed hold is released
+        if (args.contains("from_row")) {
+          if (!args["from_row"].is_number_integer())
+            throw ControlError("resume needs an integer \"from_row\"");
+          from_row = args["from_row"].get<int>();
+        }
+        device.resume(id, from_row);
       }
     } catch (const std::runtime_error& e) {
       throw ControlError(e.what());
     }
     return job_to_json(*store_->get(id));
-  }
-  if (verb == "frame") {
-    const int64_t id = job_id_arg(args);
-    auto job = store_->get(id);
-    if (!job) throw ControlError("no job " + std::to_string(id));
-    throw ControlError("job " + std::to_string(id) + " (" + job->kind +
-                       "): framing traces a laser job's outline, and no laser is configured");
   }
   if (verb == "devices") return devices_json();
   if (verb == "wood")
@@ -338,7 +347,7 @@ int Daemon::run() {
   hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
   scheduler_->start(cfg->workers);
-  for (auto& d : devices_) static_cast<KnitDevice&>(*d).start_worker();
+  for (auto& d : devices_) static_cast<DeviceWorker&>(*d).start_worker();
   if (std::any_of(devices_.begin(), devices_.end(), [](const auto& d) { return !d->config().usb.empty(); })) {
     usb_monitor_ = std::make_unique<UsbHotplugMonitor>([this](UsbEvent, const UsbDeviceInfo&) {
       for (const auto& d : devices_) d->wake();

@@ -1,10 +1,12 @@
 // A machine the daemon drives: one worker thread per [[device]], taking the `ready` jobs of
-// its kinds one at a time. Implementations: KnitDevice (AYAB knitting machines).
+// its kinds one at a time. Implementations (on DeviceWorker): KnitDevice (AYAB knitting
+// machines), LaserDevice (GRBL laser cutters).
 //
 // Threading: all public methods are thread-safe; the worker owns the machine link.
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 
 #include "daemon/core/config.h"
@@ -24,9 +26,19 @@ class Device {
   // Cancels a ready job of this device's kinds (at once) or the job it is running (it stops
   // after the current row). Returns false if the job is neither.
   virtual bool cancel(int64_t job_id) = 0;
-  // Continues an interrupted job from pattern row `from_row` (1-based). Throws
-  // std::runtime_error naming the problem (bad row, device offline).
+  // Knitting: continues an interrupted job from pattern row `from_row` (1-based). Laser:
+  // `from_row` 0 releases a feed hold. Throws std::runtime_error naming the problem.
   virtual void resume(int64_t job_id, int from_row) = 0;
+  // Laser: feed hold on the running job (motion stops, the beam is off, position is kept).
+  virtual void hold(int64_t job_id) {
+    throw std::runtime_error("job " + std::to_string(job_id) + ": " + config().name +
+                             " cannot hold a job; only lasers can");
+  }
+  // Laser: traces a ready job's bounding box with the beam off, soon (asynchronously).
+  virtual void frame(int64_t job_id) {
+    throw std::runtime_error("job " + std::to_string(job_id) + ": " + config().name +
+                             " is not a laser; framing traces a laser job's outline");
+  }
   // Stops the worker (a running job is left interrupted, never restarted on its own).
   virtual void stop() = 0;
   bool takes(const std::string& kind) const {

@@ -10,11 +10,6 @@ namespace fs = std::filesystem;
 namespace atelier {
 namespace {
 
-// Devices of the same kind compete for ready jobs: claiming one is done under this lock.
-std::mutex g_claim_mu;
-
-std::string job_tag(int64_t id) { return "job " + std::to_string(id); }
-
 // How the user continues a job that stopped after `rows_done` rows.
 std::string resume_hint(int64_t id, int rows_done) {
   return "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
@@ -25,93 +20,23 @@ std::string resume_hint(int64_t id, int rows_done) {
 
 KnitDevice::KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
                        ayab::SessionTimeouts timeouts)
-    : config_(std::move(config)),
-      jobs_(jobs),
+    : DeviceWorker(std::move(config), jobs, std::move(resolve)),
       open_(std::move(open)),
-      resolve_(std::move(resolve)),
       timeouts_(timeouts) {}
 
 KnitDevice::~KnitDevice() { stop(); }
 
-void KnitDevice::start_worker() { thread_ = std::thread([this] { worker(); }); }
-
-void KnitDevice::stop() {
-  {
-    std::lock_guard lock(mu_);
-    stopping_ = true;
-    if (cancel_flag_) cancel_flag_->store(true);
-    if (waiting_link_) waiting_link_->close();
-  }
-  cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
+void KnitDevice::abort_running() {
+  if (cancel_flag_) cancel_flag_->store(true);
+  if (waiting_link_) waiting_link_->close();
 }
 
-nlohmann::json KnitDevice::current_job_json(int64_t id) const {
-  nlohmann::json out = {{"id", id}};
-  if (auto job = jobs_.store().get(id)) {
-    out["name"] = job->name;
-    out["progress"] = {{"done", job->progress_done}, {"total", job->progress_total}};
-  }
-  return out;
-}
-
-nlohmann::json KnitDevice::describe() const {
-  std::lock_guard lock(mu_);
-  return {{"name", config_.name},
-          {"driver", config_.driver},
-          {"machine", config_.machine},
-          {"port", port_.empty() ? (config_.port.empty() ? "usb " + config_.usb : config_.port) : port_},
-          {"kinds", config_.kinds},
-          {"state", state_},
-          {"detail", detail_},
-          {"job", current_ ? current_job_json(*current_) : nlohmann::json(nullptr)}};
-}
-
-void KnitDevice::set_state(const std::string& state, const std::string& detail) {
-  std::lock_guard lock(mu_);
-  if (state_ != state) log::info("device " + config_.name + ": " + state + (detail.empty() ? "" : " (" + detail + ")"));
-  state_ = state;
-  detail_ = detail;
-}
-
-void KnitDevice::wake() {
-  {
-    std::lock_guard lock(mu_);
-    woken_ = true;
-  }
-  cv_.notify_all();
-}
-
-void KnitDevice::start(int64_t job_id) {
-  auto job = jobs_.store().get(job_id);
-  if (!job || job->state != JobState::ready || !takes(job->kind))
-    throw std::runtime_error(job_tag(job_id) + " is not a ready " + config_.kinds.front() + " job");
-  {
-    std::lock_guard lock(mu_);
-    armed_.insert(job_id);
-  }
-  wake();
-}
-
-bool KnitDevice::cancel(int64_t job_id) {
-  // Under the claim lock a ready job cannot turn running behind our back (next_work()).
-  std::lock_guard claim(g_claim_mu);
-  {
-    std::lock_guard lock(mu_);
-    resumes_.erase(job_id);
-    armed_.erase(job_id);
-    if (current_ == job_id && cancel_flag_) {
-      cancel_flag_->store(true);
-      if (waiting_link_) waiting_link_->close();  // still waiting for the carriage: stop now
-      return true;
-    }
-  }
-  auto job = jobs_.store().get(job_id);
-  if (job && job->state == JobState::ready && takes(job->kind)) {
-    jobs_.transition(job_id, JobState::canceled, "canceled by user before the machine started");
-    return true;
-  }
-  return false;
+bool KnitDevice::cancel_running(int64_t job_id) {
+  resumes_.erase(job_id);
+  if (current_ != job_id || !cancel_flag_) return false;
+  cancel_flag_->store(true);
+  if (waiting_link_) waiting_link_->close();  // still waiting for the carriage: stop now
+  return true;
 }
 
 void KnitDevice::resume(int64_t job_id, int from_row) {
@@ -120,6 +45,9 @@ void KnitDevice::resume(int64_t job_id, int from_row) {
   if (job->state != JobState::interrupted)
     throw std::runtime_error(job_tag(job_id) + " is " + state_name(job->state) +
                              "; only interrupted jobs can be resumed");
+  if (from_row == 0)
+    throw std::runtime_error("say which row to continue from: atelierctl resume " +
+                             std::to_string(job_id) + " --from-row N");
   cv::Mat pattern = cv::imread((fs::path(job->output_dir) / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
   if (pattern.empty()) throw std::runtime_error(job_tag(job_id) + ": its pattern.png is gone");
   if (from_row < 1 || from_row > pattern.rows)
@@ -143,82 +71,38 @@ ayab::PlanParams KnitDevice::plan_params() const {
 }
 
 std::optional<KnitDevice::Work> KnitDevice::next_work() {
-  std::lock_guard claim(g_claim_mu);
-  std::optional<Work> work;
   {
-    std::lock_guard lock(mu_);
-    while (!work && !resumes_.empty()) {
-      auto [id, row] = *resumes_.begin();
-      resumes_.erase(resumes_.begin());
-      auto job = jobs_.store().get(id);
-      if (job && job->state == JobState::interrupted) work = Work{id, row};
-    }
-  }
-  if (!work) {
-    JobFilter filter;
-    filter.state = JobState::ready;
-    filter.limit = -1;
-    auto ready = jobs_.store().list(filter);
-    for (auto it = ready.rbegin(); it != ready.rend() && !work; ++it) {  // oldest first
-      if (!takes(it->kind)) continue;
+    std::lock_guard claim(claim_mutex());
+    std::optional<Work> work;
+    {
       std::lock_guard lock(mu_);
-      if (config_.autostart || armed_.count(it->id)) {
-        armed_.erase(it->id);
-        work = Work{it->id, 1};
+      while (!work && !resumes_.empty()) {
+        auto [id, row] = *resumes_.begin();
+        resumes_.erase(resumes_.begin());
+        auto job = jobs_.store().get(id);
+        if (job && job->state == JobState::interrupted) work = Work{id, row};
       }
     }
+    if (work) {
+      jobs_.transition(work->id, JobState::running,
+                       "knitting on " + config_.name + " from row " + std::to_string(work->from_row),
+                       config_.name);
+      return work;
+    }
   }
-  if (work) {
-    const std::string from_text = work->from_row > 1 ? " from row " + std::to_string(work->from_row) : "";
-    jobs_.transition(work->id, JobState::running, "knitting on " + config_.name + from_text, config_.name);
-  }
-  return work;
+  if (auto id = claim_ready("knitting on " + config_.name)) return Work{*id, 1};
+  return std::nullopt;
 }
 
-void KnitDevice::worker() {
-  for (;;) {
-    {
-      std::lock_guard lock(mu_);
-      if (stopping_) return;
-    }
-    std::optional<std::string> port;
-    std::string why = "not connected";
-    try {
-      port = resolve_();
-    } catch (const std::exception& e) {  // e.g. two boards match the USB id
-      why = e.what();
-    }
-    {
-      std::lock_guard lock(mu_);
-      port_ = port.value_or("");
-    }
-    if (!port) {
-      set_state("offline", why);
-    } else {
-      set_state("online", "");
-      try {
-        if (auto work = next_work()) {
-          knit(*work);
-          continue;
-        }
-      } catch (const std::exception& e) {
-        // The store failed under us (e.g. a full disk): say so and try again later.
-        log::error("device " + config_.name + ": " + e.what());
-      }
-    }
-    std::unique_lock lock(mu_);
-    cv_.wait_for(lock, std::chrono::milliseconds(300), [this] { return stopping_ || woken_; });
-    woken_ = false;
-  }
+bool KnitDevice::run_next() {
+  auto work = next_work();
+  if (!work) return false;
+  knit(*work);
+  return true;
 }
 
 void KnitDevice::end_early(int64_t id, int rows_done, bool knitting_started) {
-  bool daemon_stopping;
-  {
-    std::lock_guard lock(mu_);
-    daemon_stopping = stopping_;
-  }
-  if (daemon_stopping) {
+  if (stopping()) {
     // Never canceled by a shutdown, and never resumed without an operator.
     jobs_.transition(id, JobState::interrupted, "atelierd stopped after row " +
                                                     std::to_string(rows_done) + "; " +

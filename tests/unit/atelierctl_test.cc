@@ -328,7 +328,7 @@ TEST_F(AtelierctlTest, BadUsageExitsTwoAndSendsNothing) {
   for (const char* args : {"", "frobnicate", "show", "show abc", "show 0", "start -3",
                            "submit /etc/hostname", "submit /no/such/file --kind knit",
                            "submit /etc/hostname --kind knit --set novalue",
-                           "resume 3", "resume 3 --from-row x", "list --state",
+                           "resume 3 --from-row x", "resume 3 --from-row 0", "list --state",
                            "list --bogus", "wood", "wood remove"}) {
     CtlRun r = ctl(sock() + args);
     EXPECT_EQ(r.exit_code, 2) << "atelierctl " << args << "\n" << r.err;
@@ -341,7 +341,7 @@ TEST_F(AtelierctlTest, HelpExitsZero) {
   CtlRun r = ctl("--help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* verb : {"status", "list", "show", "submit", "start", "cancel", "retry",
-                           "resume", "devices", "watch", "frame", "wood"}) {
+                           "resume", "hold", "devices", "watch", "frame", "wood"}) {
     EXPECT_NE(r.out.find(verb), std::string::npos) << verb;
   }
 }

@@ -90,12 +90,49 @@ TEST(Config, SyntaxErrorNamesTheLine) {
 
 TEST(Config, DevicesWithDriversNotInThisBuildAreRefusedNotIgnored) {
   std::string e = error_of(
-      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n"
-      "port = \"/dev/ttyUSB0\"\nkinds = [\"knit\"]\n");
-  EXPECT_NE(e.find("laser"), std::string::npos) << e;
-  EXPECT_NE(e.find("grbl"), std::string::npos) << e;
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n"
+      "dir = \"/media/EMB\"\n");
+  EXPECT_NE(e.find("emb"), std::string::npos) << e;
+  EXPECT_NE(e.find("file-drop"), std::string::npos) << e;
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"x\"\ndriver = \"ayab\"\nprot = \"/dev/x\"\n");
   EXPECT_NE(e.find("prot"), std::string::npos) << e;
+}
+
+TEST(Config, ALaserWaitsForTheOperatorAndTakesOnlyLaserKinds) {
+  Config c = parse_config(
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n"
+      "port = \"/dev/ttyUSB0\"\n", "a.toml");
+  ASSERT_EQ(c.devices.size(), 1u);
+  EXPECT_FALSE(c.devices[0].autostart);
+  EXPECT_EQ(c.devices[0].kinds, std::vector<std::string>{"cut"});
+  EXPECT_EQ(c.devices[0].streaming, "character-counting");
+  EXPECT_FALSE(c.laser_check_first);
+
+  std::string e = error_of(
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n"
+      "port = \"/dev/ttyUSB0\"\nkinds = [\"knit\"]\n");
+  EXPECT_NE(e.find(":7:"), std::string::npos) << e;
+  EXPECT_NE(e.find("cannot run 'knit'"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n");
+  EXPECT_NE(e.find("needs port"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n"
+               "port = \"/dev/ttyUSB0\"\nstreaming = \"fast\"\n");
+  EXPECT_NE(e.find("streaming"), std::string::npos) << e;
+}
+
+TEST(Config, TheLaserSectionIsCheckedAndHandedToTheLaserKinds) {
+  Config c = parse_config(
+      "[spool]\ndir = \"/s\"\n[laser]\ncheck_first = true\ns_max = 255\n"
+      "[[laser.layer]]\ncolor = \"#ff0000\"\nmode = \"cut\"\nspeed_mm_min = 400\n", "a.toml");
+  EXPECT_TRUE(c.laser_check_first);
+  const toml::table* laser = c.kind_defaults.at("cut")["laser"].as_table();
+  ASSERT_NE(laser, nullptr);
+  EXPECT_EQ((*laser)["s_max"].value<int64_t>(), 255);
+  EXPECT_FALSE(c.kind_defaults.at("knit").contains("laser"));
+
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[laser]\n[[laser.layer]]\ncolor = \"#ff0000\"\nspeed = 400\n");
+  EXPECT_NE(e.find(":6:"), std::string::npos) << e;
+  EXPECT_NE(e.find("speed"), std::string::npos) << e;
 }
 
 TEST(Config, AKnittingMachineHasDefaultsAndIsChecked) {

@@ -1,4 +1,4 @@
-#include "tools/knit_emu/pty_link.h"
+#include "tools/emu/pty_link.h"
 
 #include <fcntl.h>
 #include <pty.h>
@@ -13,7 +13,7 @@
 #include <chrono>
 #include <thread>
 
-namespace atelier::knit_emu {
+namespace atelier::emu {
 namespace {
 
 std::runtime_error sys_error(const std::string& what) {
@@ -78,4 +78,4 @@ void PtyLink::close() {
   master_ = slave_ = -1;
 }
 
-}  // namespace atelier::knit_emu
+}  // namespace atelier::emu

@@ -1,5 +1,6 @@
 // A pseudo-terminal whose slave is published under a stable path (a symlink), as a USB serial
-// adapter appears under /dev/serial/by-id. Linux only (openpty from <pty.h>).
+// adapter appears under /dev/serial/by-id. Linux only (openpty from <pty.h>). Shared by the
+// machine emulators (atelier-knit-emu, atelier-laser-emu).
 //
 // Ownership: a PtyLink owns the master fd, one slave fd and the symlink; close() (or the
 // destructor) closes both fds and removes the symlink. Keeping a slave fd open ourselves means
@@ -9,7 +10,7 @@
 
 #include <string>
 
-namespace atelier::knit_emu {
+namespace atelier::emu {
 
 class PtyLink {
  public:
@@ -39,4 +40,4 @@ class PtyLink {
   int slave_ = -1;
 };
 
-}  // namespace atelier::knit_emu
+}  // namespace atelier::emu

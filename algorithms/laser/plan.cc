@@ -1,0 +1,226 @@
+#include "algorithms/laser/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "algorithms/laser/kerf.h"
+#include "algorithms/laser/order.h"
+
+namespace atelier::laser {
+namespace {
+
+constexpr size_t kMaxLine = 70;
+constexpr double kEpsilon = 1e-6;  // mm; absorbs rounding at the edges of the work area
+
+// Design (x right, y down) -> machine coordinates; see plan.h.
+Point to_machine(Point p, const Machine& m) {
+  bool right = m.origin == Origin::front_right || m.origin == Origin::rear_right;
+  bool front = m.origin == Origin::front_left || m.origin == Origin::front_right;
+  return Point{right ? p.x - m.width_mm : p.x, front ? m.height_mm - p.y : -p.y};
+}
+
+Point machine_zero_in_design(const Machine& m) {
+  bool right = m.origin == Origin::front_right || m.origin == Origin::rear_right;
+  bool front = m.origin == Origin::front_left || m.origin == Origin::front_right;
+  return Point{right ? m.width_mm : 0, front ? m.height_mm : 0};
+}
+
+// Writes G-code lines and remembers the modal state, so that unchanged axes and feeds are
+// not repeated (every byte costs streaming time).
+class GcodeWriter {
+ public:
+  void line(std::string text) {
+    if (text.size() > kMaxLine) text.resize(kMaxLine);
+    out_ += text;
+    out_ += '\n';
+  }
+
+  void move(bool burn, Point p, double feed) {
+    std::string x = format_number(p.x), y = format_number(p.y);
+    if (x == x_ && y == y_) return;  // no motion after rounding
+    std::string text = burn ? "G1" : "G0";
+    if (x != x_) text += " X" + x;
+    if (y != y_) text += " Y" + y;
+    if (burn) {
+      std::string f = format_number(feed);
+      if (f != f_) text += " F" + f;
+      f_ = f;
+    }
+    x_ = x;
+    y_ = y;
+    line(text);
+  }
+
+  std::string take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+  std::string x_, y_, f_;  // as last written; empty = unknown
+};
+
+std::string printable(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (c >= 0x20 && c < 0x7f) ? c : '?';
+  return out;
+}
+
+std::string layer_comment(const LayerSettings& s) {
+  std::string tail = std::string(" ") + mode_name(s.mode) + " " +
+                     format_number(s.speed_mm_min) + "mm/min " + format_number(s.power_pct) +
+                     "% x" + std::to_string(s.passes);
+  std::string head = "; layer ";
+  std::string name = printable(s.name);
+  size_t room = kMaxLine > head.size() + tail.size() ? kMaxLine - head.size() - tail.size() : 0;
+  if (name.size() > room) name.resize(room);
+  return head + name + tail;
+}
+
+void check_settings(const LayerSettings& s, const Machine& m) {
+  auto bad = [&](const std::string& what) {
+    throw PlanError("layer '" + s.name + "': " + what);
+  };
+  if (!(s.speed_mm_min > 0)) bad("speed_mm_min must be above 0");
+  if (!(s.power_pct >= 0 && s.power_pct <= 100)) bad("power_pct must be within 0..100");
+  if (s.passes < 1) bad("passes must be at least 1");
+  if (!(s.kerf_mm >= 0)) bad("kerf_mm must not be negative");
+  if (!(m.width_mm > 0 && m.height_mm > 0)) throw PlanError("the work area must not be empty");
+  if (!(m.s_max > 0)) throw PlanError("s_max must be above 0");
+  if (!(m.travel_mm_min > 0)) throw PlanError("travel_mm_min must be above 0");
+}
+
+void check_work_area(const Bounds& design, const Machine& m) {
+  if (design.min_x >= -kEpsilon && design.min_y >= -kEpsilon &&
+      design.max_x <= m.width_mm + kEpsilon && design.max_y <= m.height_mm + kEpsilon) {
+    return;
+  }
+  Bounds mb;
+  mb.add(to_machine(Point{design.min_x, design.min_y}, m));
+  mb.add(to_machine(Point{design.max_x, design.max_y}, m));
+  Bounds area;
+  area.add(to_machine(Point{0, 0}, m));
+  area.add(to_machine(Point{m.width_mm, m.height_mm}, m));
+  auto range = [](double a, double b) { return format_number(a) + ".." + format_number(b); };
+  throw PlanError("the job spans X " + range(mb.min_x, mb.max_x) + " mm x Y " +
+                  range(mb.min_y, mb.max_y) + " mm, outside the " + format_number(m.width_mm) +
+                  " x " + format_number(m.height_mm) + " mm work area (X " +
+                  range(area.min_x, area.max_x) + ", Y " + range(area.min_y, area.max_y) +
+                  " with the origin " + origin_name(m.origin) + ")");
+}
+
+}  // namespace
+
+const char* mode_name(Mode mode) { return mode == Mode::cut ? "cut" : "engrave"; }
+
+const char* origin_name(Origin origin) {
+  switch (origin) {
+    case Origin::front_left: return "front-left";
+    case Origin::rear_left: return "rear-left";
+    case Origin::front_right: return "front-right";
+    case Origin::rear_right: return "rear-right";
+  }
+  return "?";
+}
+
+std::string format_number(double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", value);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
+  // Engrave first: engraving after cutting would hit pieces that may have shifted.
+  std::vector<const Layer*> order;
+  for (const auto& l : layers)
+    if (l.settings.mode == Mode::engrave) order.push_back(&l);
+  for (const auto& l : layers)
+    if (l.settings.mode == Mode::cut) order.push_back(&l);
+
+  Job job;
+  Point head = machine_zero_in_design(machine);
+  Bounds design;
+  for (const Layer* layer : order) {
+    const LayerSettings& s = layer->settings;
+    check_settings(s, machine);
+    KerfResult kerf;
+    if (s.mode == Mode::cut) kerf = apply_kerf(layer->paths, s.kerf_mm);
+    else kerf.paths = layer->paths;
+    std::vector<Path> paths = order_paths(kerf.paths, head);
+    if (paths.empty()) continue;
+    for (const auto& p : paths) design.add(bounds_of(p));
+    PlannedLayer planned;
+    planned.settings = s;
+    planned.paths = std::move(paths);
+    LayerStats stats;
+    stats.name = s.name;
+    stats.mode = s.mode;
+    stats.paths = planned.paths.size();
+    stats.passes = s.passes;
+    stats.vanished_holes = kerf.vanished_holes;
+    job.toolpaths.push_back(std::move(planned));
+    job.layers.push_back(stats);
+  }
+  if (job.toolpaths.empty()) throw PlanError("nothing to burn: no layer has a path");
+  check_work_area(design, machine);
+
+  for (auto& layer : job.toolpaths)
+    for (auto& path : layer.paths)
+      for (auto& p : path.points) {
+        p = to_machine(p, machine);
+        job.bounds.add(p);
+      }
+
+  GcodeWriter g;
+  g.line("; atelier laser job");
+  g.line("; s_max=" + format_number(machine.s_max));
+  g.line("; bounds=" + format_number(job.bounds.min_x) + "," + format_number(job.bounds.min_y) +
+         "," + format_number(job.bounds.max_x) + "," + format_number(job.bounds.max_y));
+  g.line("G21 G90");
+  Point at{0, 0};
+  for (size_t li = 0; li < job.toolpaths.size(); ++li) {
+    const PlannedLayer& layer = job.toolpaths[li];
+    const LayerSettings& s = layer.settings;
+    LayerStats& stats = job.layers[li];
+    const double feed = s.speed_mm_min;
+    g.line(layer_comment(s));
+    g.line("M4 S" + std::to_string(std::lround(s.power_pct / 100.0 * machine.s_max)));
+    double burn_mm = 0, travel_mm = 0;
+    for (const Path& path : layer.paths) {
+      travel_mm += distance(at, path.points.front());
+      g.move(false, path.points.front(), feed);
+      at = path.points.front();
+      stats.length_mm += path_length(path);
+      for (int pass = 0; pass < s.passes; ++pass) {
+        // Open paths run back and forth so that a repeat needs no travel.
+        bool backwards = !path.closed && pass % 2 == 1;
+        const auto& pts = path.points;
+        for (size_t k = 1; k < pts.size(); ++k) {
+          Point p = backwards ? pts[pts.size() - 1 - k] : pts[k];
+          g.move(true, p, feed);
+          burn_mm += distance(at, p);
+          at = p;
+        }
+        if (path.closed && pts.size() > 1) {
+          g.move(true, pts.front(), feed);
+          burn_mm += distance(at, pts.front());
+          at = pts.front();
+        }
+      }
+    }
+    stats.time_s = burn_mm / feed * 60 + travel_mm / machine.travel_mm_min * 60;
+    (s.mode == Mode::cut ? job.cut_length_mm : job.engrave_length_mm) += burn_mm;
+    job.travel_length_mm += travel_mm;
+    job.estimated_s += stats.time_s;
+  }
+  g.line("M5");
+  job.gcode = g.take();
+  return job;
+}
+
+}  // namespace atelier::laser

@@ -1,0 +1,107 @@
+// A laser job: layers of vector paths -> ordered, kerf-compensated toolpaths -> GRBL 1.1
+// G-code (laser mode, $32=1), with statistics and a time estimate.
+//
+// Coordinates. Input paths are in "design" coordinates as drawn in an SVG: x to the right,
+// y DOWN, origin at the top-left (rear-left) corner of the bed, in mm. The G-code uses machine
+// coordinates, chosen by where the machine's origin (its homing corner) is:
+//   front_left:  X = x,         Y = height - y   (Y up, 0 at the front; the usual diode laser)
+//   rear_left:   X = x,         Y = -y
+//   front_right: X = x - width, Y = height - y
+//   rear_right:  X = x - width, Y = -y
+// (GRBL machines homed at the rear and/or right work in negative coordinates.) In every case
+// X grows to the right and Y towards the rear, and the work area is [0, width] x [0, height]
+// in design coordinates. The head is assumed to start at machine (0, 0).
+//
+// G-code. Header comments the driver reads (`; atelier laser job`, `; s_max=N`,
+// `; bounds=minX,minY,maxX,maxY` in machine mm over every beam-on point), `G21 G90`, then per
+// layer a comment and `M4 S<power>` (dynamic power: the beam follows the actual speed and is
+// off whenever the head stops), `G0` travel (beam off in laser mode), `G1` burns with F only
+// when it changes; `M5` last. Numbers have at most 3 decimals; lines are <= 70 characters.
+//
+// Order. Engrave layers before cut layers, otherwise the given order. Within a layer, paths
+// inside a closed path are burned before it (a piece must not drop before its holes are cut)
+// and the next path is the nearest allowed one (closed paths start at their nearest vertex,
+// open paths may run backwards). Each path is burned `passes` times in a row (open paths
+// alternate direction) before the head moves on.
+//
+// Pure (no I/O, clocks or logging); thread-safe.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "algorithms/laser/geometry.h"
+
+namespace atelier::laser {
+
+enum class Mode { cut, engrave };
+const char* mode_name(Mode mode);
+
+struct LayerSettings {
+  std::string name;
+  std::string color;  // "#rrggbb", lower case
+  Mode mode = Mode::cut;
+  double speed_mm_min = 600;
+  double power_pct = 80;  // of s_max
+  int passes = 1;
+  double kerf_mm = 0;     // cut layers, closed paths only
+};
+
+struct Layer {
+  LayerSettings settings;
+  std::vector<Path> paths;  // design coordinates (see above)
+};
+
+enum class Origin { front_left, rear_left, front_right, rear_right };
+const char* origin_name(Origin origin);  // "front-left", ...
+
+struct Machine {
+  double width_mm = 400, height_mm = 400;
+  double s_max = 1000;          // GRBL $30: S at full power
+  Origin origin = Origin::front_left;
+  double travel_mm_min = 6000;  // G0 speed, for the time estimate only
+};
+
+struct LayerStats {
+  std::string name;
+  Mode mode = Mode::cut;
+  size_t paths = 0;         // after kerf offset (a split hole counts twice)
+  double length_mm = 0;     // burned per pass
+  int passes = 1;
+  double time_s = 0;        // burns of every pass plus the travel to each path
+  size_t vanished_holes = 0;  // holes smaller than the kerf, not cut
+};
+
+struct PlannedLayer {
+  LayerSettings settings;
+  std::vector<Path> paths;  // machine coordinates, burn order, kerf applied; one pass each
+};
+
+struct Job {
+  std::string gcode;
+  Bounds bounds;                     // machine coordinates of every beam-on point
+  std::vector<LayerStats> layers;    // non-empty layers, in burn order
+  std::vector<PlannedLayer> toolpaths;  // parallel to `layers`
+  double cut_length_mm = 0;          // burned, all passes
+  double engrave_length_mm = 0;      // burned, all passes
+  double travel_length_mm = 0;       // G0, from machine (0, 0) on
+  double estimated_s = 0;            // length / feed per move; ignores acceleration
+};
+
+class PlanError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Throws PlanError when nothing is left to burn, when settings are unusable (speed <= 0,
+// passes < 1, power outside 0..100, machine size or s_max <= 0), or when any point lies
+// outside the work area ("the job spans X a..b mm x Y c..d mm, outside the W x H mm work
+// area ..."), so that nothing is ever sent for such a job.
+Job plan_job(const std::vector<Layer>& layers, const Machine& machine);
+
+// "12.5", "-3", "0.001": at most 3 decimals, trailing zeros stripped, never "-0".
+std::string format_number(double value);
+
+}  // namespace atelier::laser

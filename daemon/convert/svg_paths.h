@@ -1,0 +1,45 @@
+// Reading the shapes of an SVG drawing as laser paths in mm (parsed with SVG++ over
+// rapidxml_ns).
+//
+// Supported: path (every command, relative and absolute, quadratic and arcs), rect (also
+// rounded), circle, ellipse, line, polyline, polygon, inside nested g / svg / a elements with
+// `transform` attributes; stroke, fill and color from attributes and `style=`, inherited from
+// groups; display="none" hides. Not drawn: text (convert it to paths first), use, image,
+// defs, clipPath, mask. Gradient or pattern strokes count as no stroke.
+//
+// Units. The root's width/height (mm, cm, in, pt, pc, px = 1/96 in; unitless = px) and
+// viewBox give the scale from user units to mm. Without width/height the viewBox units are
+// px; with neither, the user units are px and the drawing's size is its extent.
+// Coordinates are as in SVG: x right, y down, origin top-left.
+// Curves are flattened (laser::flatten_cubic; arcs and quadratics become cubics first) so
+// that no chord deviates more than `tolerance_mm` from the curve.
+//
+// Thread-safe (no shared state).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "algorithms/laser/geometry.h"
+
+namespace atelier {
+
+struct SvgShape {
+  std::vector<laser::Path> paths;  // one per subpath, mm
+  std::string stroke;              // "#rrggbb" lower case, or "" for no stroke
+  bool filled = false;             // has a fill other than none
+};
+
+struct SvgDrawing {
+  double width_mm = 0, height_mm = 0;
+  std::vector<SvgShape> shapes;  // document order; shapes without geometry are left out
+};
+
+// Throws ConvertError naming the file and the problem ("x.svg: not an SVG file: ...",
+// "x.svg: line 3: XML error: expected >", "x.svg: invalid value of attribute d ...").
+// Files larger than `max_bytes` are refused before reading.
+SvgDrawing read_svg(const std::filesystem::path& file, double tolerance_mm,
+                    uintmax_t max_bytes = 200u << 20);
+
+}  // namespace atelier

@@ -1,0 +1,253 @@
+#include "daemon/core/laser_device.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "daemon/core/laser_job_checks.h"
+#include "daemon/core/log.h"
+
+namespace fs = std::filesystem;
+
+namespace atelier {
+namespace {
+
+std::string retry_hint(int64_t id) {
+  return "a laser job never restarts on its own: check the workpiece, then `atelierctl retry " +
+         std::to_string(id) + "` runs it again from the start";
+}
+
+std::string line_count(size_t done, size_t total) {
+  return "line " + std::to_string(done) + " of " + std::to_string(total);
+}
+
+std::string duration_text(double seconds) {
+  const long s = std::lround(std::max(0.0, seconds));
+  if (s < 60) return std::to_string(s) + " s";
+  return std::to_string(s / 60) + " min " + std::to_string(s % 60) + " s";
+}
+
+}  // namespace
+
+LaserDevice::LaserDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
+                         LaserOptions options)
+    : DeviceWorker(std::move(config), jobs, std::move(resolve)),
+      open_(std::move(open)),
+      options_(options) {}
+
+LaserDevice::~LaserDevice() { stop(); }
+
+std::string LaserDevice::gcode_file_for(const std::string& kind) {
+  if (kind == "parquetry") return "cuts.gcode";
+  if (kind == "sketch") return "engrave.gcode";
+  return "job.gcode";
+}
+
+void LaserDevice::abort_running() {
+  if (controls_) controls_->cancel.store(true);
+}
+
+bool LaserDevice::cancel_running(int64_t job_id) {
+  if (frame_request_ == job_id) frame_request_.reset();
+  if (current_ != job_id || !controls_) return false;
+  controls_->cancel.store(true);
+  return true;
+}
+
+void LaserDevice::hold(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  if (current_ != job_id || !controls_)
+    throw std::runtime_error(job_tag(job_id) + " is not running on " + config_.name);
+  controls_->hold.store(true);
+}
+
+void LaserDevice::resume(int64_t job_id, int from_row) {
+  if (from_row != 0)
+    throw std::runtime_error(config_.name + " is a laser: a laser job is never continued part-way; " +
+                             "`atelierctl resume " + std::to_string(job_id) +
+                             "` (without --from-row) releases a feed hold, `atelierctl retry " +
+                             std::to_string(job_id) + "` runs an interrupted job again from the start");
+  std::lock_guard lock(mu_);
+  if (current_ != job_id || !controls_ || !controls_->hold.load())
+    throw std::runtime_error(job_tag(job_id) + " is not held on " + config_.name);
+  controls_->hold.store(false);
+}
+
+void LaserDevice::frame(int64_t job_id) {
+  auto job = jobs_.store().get(job_id);
+  if (!job || job->state != JobState::ready || !takes(job->kind))
+    throw std::runtime_error(job_tag(job_id) + " is not a ready job for " + config_.name +
+                             "; only a ready job can be framed");
+  {
+    std::lock_guard lock(mu_);
+    if (current_) throw std::runtime_error(config_.name + " is busy with " + job_tag(*current_));
+    frame_request_ = job_id;
+  }
+  wake();
+}
+
+bool LaserDevice::run_next() {
+  std::optional<int64_t> frame;
+  {
+    std::lock_guard lock(mu_);
+    frame.swap(frame_request_);
+  }
+  if (frame) {
+    run_frame(*frame);
+    return true;
+  }
+  auto id = claim_ready("running on " + config_.name);
+  if (!id) return false;
+  run_job(*id);
+  return true;
+}
+
+std::string LaserDevice::read_gcode(int64_t id) const {
+  auto job = jobs_.store().get(id);
+  if (!job) throw std::runtime_error("no " + job_tag(id));
+  const fs::path file = fs::path(job->output_dir) / gcode_file_for(job->kind);
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + " cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::unique_ptr<Transport> LaserDevice::open_link() {
+  auto port = resolve_();
+  if (!port) throw LinkLost("the laser is not connected");
+  return open_(*port);
+}
+
+void LaserDevice::run_frame(int64_t id) {
+  auto controls = std::make_shared<grbl::Controls>();
+  {
+    std::lock_guard lock(mu_);
+    current_ = id;
+    controls_ = controls;
+  }
+  struct Clear {
+    LaserDevice* d;
+    ~Clear() {
+      std::lock_guard lock(d->mu_);
+      d->current_.reset();
+      d->controls_.reset();
+    }
+  } clear{this};
+  set_state("busy", "framing " + job_tag(id) + " (beam off)");
+  try {
+    const std::string text = read_gcode(id);
+    auto link = open_link();
+    grbl::Session session(*link, options_.timeouts);
+    const grbl::MachineInfo info = session.connect();
+    const grbl::Program program = grbl::parse_program(text, rapid_rate(info));
+    if (auto problem = job_fit_problem(program, info, gcode_file_for(jobs_.store().get(id)->kind)))
+      throw std::runtime_error(*problem);
+    if (!program.bounds) throw std::runtime_error("the job has no moves to frame");
+    session.frame(*program.bounds, options_.frame_feed_mm_min, *controls);
+    link->close();
+    set_last("framed " + job_tag(id) + " with the beam off");
+  } catch (const grbl::Canceled&) {
+    set_last("framing of " + job_tag(id) + " stopped");
+  } catch (const std::exception& e) {
+    // The job stays ready: framing is a check, and a failed check must not lose the job.
+    set_last("framing " + job_tag(id) + " failed: " + e.what());
+  }
+  log::info(config_.name + ": " + describe()["last"].get<std::string>());
+}
+
+void LaserDevice::run_job(int64_t id) {
+  auto controls = std::make_shared<grbl::Controls>();
+  {
+    std::lock_guard lock(mu_);
+    current_ = id;
+    controls_ = controls;
+  }
+  struct Clear {
+    LaserDevice* d;
+    ~Clear() {
+      std::lock_guard lock(d->mu_);
+      d->current_.reset();
+      d->controls_.reset();
+    }
+  } clear{this};
+  set_state("busy", job_tag(id));
+
+  size_t acked = 0, total = 0;
+  bool beam_may_fire = false;  // the real run has started sending
+  const auto started = std::chrono::steady_clock::now();
+  auto last_report = started - std::chrono::seconds(1);
+  auto on_progress = [&](const grbl::Progress& p) {
+    acked = p.acked;
+    const auto now = std::chrono::steady_clock::now();
+    // The store is written at most 5 times a second; the last line always.
+    if (p.acked != p.total && now - last_report < std::chrono::milliseconds(200)) return;
+    last_report = now;
+    const std::string what = line_count(p.acked, p.total) + ", " + duration_text(p.seconds_left) + " left";
+    set_detail(job_tag(id) + ": " + what);
+    jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
+  };
+  try {
+    const std::string file = gcode_file_for(jobs_.store().get(id)->kind);
+    const std::string text = read_gcode(id);
+    auto link = open_link();
+    grbl::Session session(*link, options_.timeouts);
+    const grbl::MachineInfo info = session.connect();
+    const grbl::Program program = grbl::parse_program(text, rapid_rate(info));
+    total = program.lines.size();
+    if (auto problem = job_fit_problem(program, info, file))
+      throw grbl::SetupError(*problem + "; nothing was sent");
+    if (info.alarm_locked)
+      throw grbl::SetupError("the controller is locked by an alarm (it may need homing): home it "
+                             "or unlock it ($X) at the machine, then retry the job; nothing was sent");
+    jobs_.store().set_progress(id, 0, static_cast<int64_t>(total));
+    if (options_.check_first) {
+      set_detail(job_tag(id) + ": dry run in check mode");
+      try {
+        session.check(program, options_.mode, *controls, [](const grbl::Progress&) {});
+      } catch (const grbl::GrblError& e) {
+        throw grbl::SetupError(std::string("check mode found an error, nothing was burned: ") + e.what());
+      }
+    }
+    beam_may_fire = true;
+    session.stream(program, options_.mode, *controls, on_progress);
+    link->close();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    jobs_.progress(id, static_cast<int64_t>(total), static_cast<int64_t>(total), "done");
+    jobs_.transition(id, JobState::completed, "ran " + std::to_string(total) + " G-code lines on " +
+                                                  config_.name + " in " + duration_text(seconds));
+  } catch (const grbl::Canceled&) {
+    const std::string where = beam_may_fire ? "at " + line_count(acked, total) : "before the beam fired";
+    if (stopping()) {
+      jobs_.transition(id, JobState::interrupted, "atelierd stopped " + where +
+                                                      " (feed hold, soft reset, beam off); " + retry_hint(id));
+    } else {
+      jobs_.transition(id, JobState::canceled,
+                       "canceled " + where + ": feed hold, soft reset, beam off (M5)");
+    }
+  } catch (const LinkLost& e) {
+    set_state("offline", e.what());
+    jobs_.transition(id, JobState::interrupted, "link to " + config_.name + " lost at " +
+                                                    line_count(acked, total) + " (" + e.what() +
+                                                    "); " + retry_hint(id));
+  } catch (const grbl::Silent& e) {
+    jobs_.transition(id, JobState::interrupted, config_.name + " stopped answering at " +
+                                                    line_count(acked, total) + " (" + e.what() +
+                                                    "); " + retry_hint(id));
+  } catch (const grbl::GrblAlarm& e) {
+    jobs_.transition(id, JobState::failed, config_.name + ": " + e.what() + " at " +
+                                               line_count(acked, total) + "; the beam is off");
+  } catch (const grbl::GrblError& e) {
+    jobs_.transition(id, JobState::failed, config_.name + " refused the G-code: " + e.what() +
+                                               "; the job was stopped and the beam is off");
+  } catch (const std::exception& e) {
+    // Setup problems (laser mode off, outside the travel, unreadable file): nothing was sent.
+    jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
+  }
+  const std::string reason = jobs_.store().get(id)->reason;
+  set_last(job_tag(id) + ": " + reason);
+  log::info(job_tag(id) + ": " + reason);
+}
+
+}  // namespace atelier

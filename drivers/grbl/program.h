@@ -1,0 +1,50 @@
+// A G-code job made ready for GRBL: the lines as they go on the wire, each tied to the
+// line of the source file it came from (for error messages), an estimated duration per line
+// (for "time left"), the power scale and the area the job covers. Also the frame job that
+// traces that area with the beam off. Pure, thread-safe. Units: mm, mm/min, seconds.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace atelier::grbl {
+
+// GRBL 1.1's line buffer is 80 bytes with the terminator: 79 characters after GRBL itself has
+// removed spaces and comments. Longer lines are refused with error:11.
+constexpr size_t kMaxLineChars = 79;
+
+struct Bounds {
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // mm, work coordinates
+  double width() const { return max_x - min_x; }
+  double height() const { return max_y - min_y; }
+};
+
+struct Program {
+  // To send, in order: comments ("(...)" and "; ...") and whitespace removed, upper-cased,
+  // blank lines and lone "%" dropped. Each fits GRBL's line buffer.
+  std::vector<std::string> lines;
+  std::vector<int> source_line;          // 1-based line in the source of lines[i]
+  std::vector<std::string> source_text;  // that source line as written (without "\r\n")
+  std::optional<double> s_max;           // from a "; s_max=N" header comment
+  // From a "; bounds=min_x,min_y,max_x,max_y" header comment, else the extent of every
+  // X/Y target and arc (G20 inches converted, G91 followed); empty if nothing moves.
+  std::optional<Bounds> bounds;
+  std::vector<double> seconds;  // estimated duration of lines[i]: G1/G2/G3 at F, G0 at rapid, G4 P
+  double total_seconds() const;
+};
+
+// Parses `gcode`; `rapid_mm_min` is the G0 speed for the estimate ($110/$111, or a guess).
+// Throws std::runtime_error "line N: ..." for lines GRBL cannot take: longer than 79
+// characters, bytes GRBL reads as real-time commands ('?', '!', '~', 0x80-0xFF), '$' system
+// commands (they are not job content and settings must not be streamed), and bad header values.
+Program parse_program(std::string_view gcode, double rapid_mm_min);
+
+// The bounding-box trace with the beam off: M5, G90 G21, G0 to the first corner, G1 at
+// `feed_mm_min` with S0 round the other corners and back, G4 P0.01 (its ok comes once the
+// head has stopped). `rapid_mm_min` only feeds the estimate (0: use feed_mm_min).
+Program frame_program(const Bounds& b, double feed_mm_min, double rapid_mm_min = 0);
+
+}  // namespace atelier::grbl

@@ -1,0 +1,412 @@
+#include "drivers/grbl/session.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <deque>
+#include <vector>
+
+#include "drivers/grbl/char_counter.h"
+#include "drivers/grbl/codes.h"
+
+namespace atelier::grbl {
+namespace {
+
+using std::chrono::milliseconds;
+
+constexpr uint8_t kSoftReset = 0x18;
+// Longest a read blocks, so controls set from another thread take effect within this.
+constexpr milliseconds kSlice{20};
+// Progress callbacks at most this often (acks can arrive at hundreds per second).
+constexpr milliseconds kProgressEvery{100};
+
+std::string seconds_text(milliseconds ms) {
+  char buf[32];
+  if (ms.count() % 1000 == 0) std::snprintf(buf, sizeof buf, "%lld s", static_cast<long long>(ms.count() / 1000));
+  else std::snprintf(buf, sizeof buf, "%.1f s", static_cast<double>(ms.count()) / 1000.0);
+  return buf;
+}
+
+std::string trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+std::string error_text(int code, size_t line_number, const std::string& line) {
+  const std::string where = line_number > 0 ? "line " + std::to_string(line_number) + " (" + trim(line) + ")"
+                                            : "command '" + line + "'";
+  return where + ": error:" + std::to_string(code) + " " + error_meaning(code);
+}
+
+// States in which a feed hold has nothing left to decelerate.
+bool settled(const Status& s) {
+  return (s.state == "Hold" && s.substate == 0) || s.state == "Idle" || s.state == "Check" || s.state == "Alarm" ||
+         s.state == "Door" || s.state == "Sleep";
+}
+
+}  // namespace
+
+GrblError::GrblError(int c, size_t n, std::string l)
+    : std::runtime_error(error_text(c, n, l)), code(c), line_number(n), line(std::move(l)) {}
+
+GrblAlarm::GrblAlarm(int c) : std::runtime_error("ALARM:" + std::to_string(c) + " " + alarm_meaning(c)), code(c) {}
+
+Session::Session(Transport& link, Timeouts t) : link_(link), t_(t), last_rx_(Clock::now()) {}
+
+void Session::write_line(const std::string& line) {
+  const std::string wire = line + "\n";
+  link_.write(reinterpret_cast<const uint8_t*>(wire.data()), wire.size());
+}
+
+void Session::write_byte(uint8_t b) { link_.write(&b, 1); }
+
+std::optional<std::string> Session::read_line(Clock::time_point deadline) {
+  uint8_t buf[256];
+  for (;;) {
+    // GRBL ends lines with "\r\n"; split on '\n', drop '\r' and empty lines (banner padding).
+    for (size_t nl; (nl = rx_.find('\n')) != std::string::npos;) {
+      std::string line = rx_.substr(0, nl);
+      rx_.erase(0, nl + 1);
+      line.erase(std::remove(line.begin(), line.end(), '\r'), line.end());
+      if (!line.empty()) return line;
+    }
+    const auto now = Clock::now();
+    if (now >= deadline) return std::nullopt;
+    const auto wait = std::min<Clock::duration>(deadline - now, kSlice);
+    const size_t n = link_.read(buf, sizeof buf, std::chrono::ceil<milliseconds>(wait));
+    if (n > 0) {
+      last_rx_ = Clock::now();
+      rx_.append(reinterpret_cast<const char*>(buf), n);
+    }
+  }
+}
+
+std::optional<Reply> Session::next(Clock::time_point deadline) {
+  auto line = read_line(deadline);
+  if (!line) return std::nullopt;
+  Reply r = classify(*line);
+  switch (r.kind) {
+    case Reply::status:
+      if (auto s = parse_status(*line)) {
+        if (s->wco) wco_ = s->wco;
+        if (s->has_wpos && wco_) apply_wco(*s, *wco_);
+        last_status_ = *s;
+        info_.alarm_locked = s->state == "Alarm";
+      }
+      break;
+    case Reply::feedback:
+      if (r.text == "MSG:'$H'|'$X' to unlock") info_.alarm_locked = true;
+      else if (r.text == "MSG:Caution: Unlocked") info_.alarm_locked = false;
+      break;
+    case Reply::alarm:
+      info_.alarm_locked = true;
+      break;
+    case Reply::banner:
+      // A fresh start: the lock hint follows right after it if GRBL stays in Alarm.
+      info_.alarm_locked = false;
+      wco_.reset();
+      break;
+    default:
+      break;
+  }
+  return r;
+}
+
+bool Session::wait_banner(milliseconds limit) {
+  const auto deadline = Clock::now() + limit;
+  while (auto r = next(deadline))
+    if (r->kind == Reply::banner) {
+      if (info_.version.rfind(r->text, 0) != 0) info_.version = r->text;  // keep "1.1h.2019..." from $I
+      return true;
+    }
+  return false;
+}
+
+std::vector<Reply> Session::setup_query(const std::string& cmd) {
+  write_line(cmd);
+  std::vector<Reply> out;
+  const auto deadline = Clock::now() + t_.reply;
+  for (;;) {
+    auto r = next(deadline);
+    if (!r) throw SetupError("GRBL did not answer " + cmd + " within " + seconds_text(t_.reply));
+    if (r->kind == Reply::ok) return out;
+    if (r->kind == Reply::error)
+      throw SetupError("GRBL refused " + cmd + ": error:" + std::to_string(r->code) + " " + error_meaning(r->code));
+    if (r->kind == Reply::banner) throw SetupError("GRBL restarted while answering " + cmd);
+    out.push_back(std::move(*r));
+  }
+}
+
+MachineInfo Session::connect() {
+  info_ = MachineInfo{};
+  rx_.clear();
+  wco_.reset();
+  last_status_ = Status{};
+  // Boards with an auto-reset print the banner ~1-2 s after the port opens. Others (and
+  // pseudo-terminals) printed it long ago: a soft reset makes them print it again.
+  if (!wait_banner(t_.banner)) {
+    write_byte(kSoftReset);
+    if (!wait_banner(t_.banner))
+      throw SetupError("no GRBL banner within " + seconds_text(t_.banner) +
+                       ", nor after a soft reset: check the port, the baud rate (115200) and that the controller "
+                       "runs GRBL 1.1");
+  }
+  if (info_.version.rfind("1.1", 0) != 0)
+    throw SetupError("the controller runs GRBL " + info_.version + "; atelier needs GRBL 1.1");
+
+  // Without [OPT:...,blocks,bytes] (GRBL 1.1 before 1.1d) the 1.1 defaults stand: 15, 128.
+  for (const Reply& r : setup_query("$I")) {
+    if (r.kind != Reply::feedback) continue;
+    if (r.text.rfind("VER:", 0) == 0) {
+      std::string v = r.text.substr(4);
+      v = v.substr(0, v.find(':'));
+      if (!v.empty()) info_.version = v;
+    } else if (auto opt = parse_opt("[" + r.text + "]")) {
+      info_.planner_blocks = opt->first;
+      info_.rx_buffer = opt->second;
+    }
+  }
+  // Character counting needs room for the longest line (79 characters and '\n') plus one.
+  if (info_.rx_buffer < static_cast<int>(kMaxLineChars) + 2)
+    throw SetupError("GRBL reports a receive buffer of " + std::to_string(info_.rx_buffer) +
+                     " bytes in $I; streaming needs at least " + std::to_string(kMaxLineChars + 2));
+
+  for (const Reply& r : setup_query("$$"))
+    if (r.kind == Reply::setting)
+      if (auto s = parse_setting("$" + std::to_string(r.code) + "=" + r.text)) info_.settings[s->first] = s->second;
+  const auto setting = [&](int n) -> std::optional<double> {
+    auto it = info_.settings.find(n);
+    return it == info_.settings.end() ? std::nullopt : std::optional<double>(it->second);
+  };
+  if (!setting(32))
+    throw SetupError("GRBL did not report $32 (laser mode) in $$; the firmware needs variable spindle (PWM) support");
+  info_.laser_mode = *setting(32) == 1;
+  if (!info_.laser_mode) throw SetupError("laser mode is off ($32=0); set $32=1 on the controller");
+  info_.s_max = setting(30).value_or(1000);
+  info_.s_min = setting(31).value_or(0);
+  info_.soft_limits = setting(20).value_or(0) == 1;
+  info_.max_travel_x = setting(130).value_or(0);
+  info_.max_travel_y = setting(131).value_or(0);
+
+  query_status();  // sets alarm_locked from the state (Alarm after power-up with homing enabled)
+  return info_;
+}
+
+Status Session::query_status() {
+  write_byte('?');
+  const auto deadline = Clock::now() + t_.reply;
+  for (;;) {
+    auto r = next(deadline);
+    if (!r) throw Silent("GRBL did not answer a status request ('?') within " + seconds_text(t_.reply));
+    if (r->kind == Reply::status && parse_status(r->text)) return last_status_;
+  }
+}
+
+void Session::command(const std::string& line) {
+  write_line(line);
+  last_rx_ = Clock::now();
+  auto last_poll = Clock::now();
+  for (;;) {
+    const auto now = Clock::now();
+    if (now - last_rx_ >= t_.silent)
+      throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(t_.silent) +
+                   " and stopped answering status requests");
+    // Some lines (M5, G4) are answered only once motion before them ends: poll meanwhile so
+    // a slow answer is told apart from a controller that is gone.
+    if (now - last_poll >= t_.poll) {
+      write_byte('?');
+      last_poll = now;
+    }
+    auto r = next(std::min(last_poll + t_.poll, now + t_.silent));
+    if (!r) continue;
+    switch (r->kind) {
+      case Reply::ok: return;
+      case Reply::error: throw GrblError(r->code, 0, line);
+      case Reply::alarm:
+        reset_after_alarm();
+        throw GrblAlarm(r->code);
+      case Reply::banner:
+        throw std::runtime_error("GRBL restarted while running '" + line + "'");
+      default: break;
+    }
+  }
+}
+
+void Session::unlock() { command("$X"); }
+
+void Session::reset_after_alarm() {
+  // Hard and soft limit alarms lock GRBL up until a reset; for the others it drops what is
+  // still queued. The alarm lock stays: unlocking is the operator's decision.
+  write_byte(kSoftReset);
+  if (!wait_banner(t_.stop)) return;  // the caller reports the alarm either way
+  try {
+    query_status();  // reads the lock hint that follows the banner
+  } catch (const Silent&) {
+  }
+}
+
+void Session::stop_machine() {
+  const bool alarm_before = info_.alarm_locked;  // e.g. error:9: not ours to unlock
+  write_byte('!');  // decelerate; GRBL's laser mode turns the beam off during a hold
+  const auto settle_by = Clock::now() + t_.stop;
+  Clock::time_point last_poll{};
+  for (bool done = false; !done;) {
+    const auto now = Clock::now();
+    if (now >= settle_by) break;  // reset anyway: stopping beats waiting
+    if (now - last_poll >= t_.poll) {
+      write_byte('?');
+      last_poll = now;
+    }
+    auto r = next(std::min(settle_by, last_poll + t_.poll));
+    done = r && r->kind == Reply::status && settled(last_status_);
+  }
+  // A reset once the hold is complete keeps the position; in motion it raises ALARM:3.
+  write_byte(kSoftReset);
+  const auto banner_by = Clock::now() + t_.stop;
+  for (bool banner = false; !banner;) {
+    auto r = next(banner_by);
+    if (!r)
+      throw Silent("GRBL did not restart within " + seconds_text(t_.stop) +
+                   " of a soft reset; the controller's state (and the beam's) is unknown");
+    banner = r->kind == Reply::banner;
+  }
+  const Status s = query_status();  // the lock hint, if any, came before this report
+  if (s.state == "Alarm" && !alarm_before) unlock();  // our own reset's ALARM:3
+  if (!info_.alarm_locked) command("M5");
+}
+
+void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress,
+                        bool check_mode) {
+  const size_t n = p.lines.size();
+  const bool counting = mode == StreamMode::character_counting;
+  CharCounter window(counting ? static_cast<size_t>(std::max(info_.rx_buffer - 1, 1)) : SIZE_MAX);
+  std::deque<size_t> in_flight;  // indices into p.lines, oldest first
+  size_t next_line = 0, acked = 0;
+
+  std::vector<double> left(n + 1, 0.0);  // left[i]: seconds of lines i..n-1
+  for (size_t i = n; i-- > 0;) left[i] = left[i + 1] + (i < p.seconds.size() ? p.seconds[i] : 0.0);
+
+  Progress prog;
+  prog.total = n;
+  Clock::time_point last_report{};
+  const auto report = [&](bool force) {
+    if (!on_progress) return;
+    const auto now = Clock::now();
+    if (!force && now - last_report < kProgressEvery) return;
+    last_report = now;
+    prog.acked = acked;
+    prog.status = last_status_;
+    // Acknowledged lines may still wait in the planner: count its used blocks as not run.
+    size_t queued = 0;
+    if (!check_mode && last_status_.planner_free >= 0)
+      queued = static_cast<size_t>(std::max(0, info_.planner_blocks - last_status_.planner_free));
+    prog.seconds_left = left[acked - std::min(queued, acked)];
+    on_progress(prog);
+  };
+
+  bool hold_sent = false;
+  bool done_polled = false;  // a '?' went out after the last ok
+  Clock::time_point last_poll{};
+  last_rx_ = Clock::now();
+  for (;;) {
+    if (c.cancel) {
+      stop_machine();
+      throw Canceled("canceled by the operator after " + std::to_string(acked) + " of " + std::to_string(n) +
+                     " lines; the beam is off and the position kept");
+    }
+    const bool want_hold = c.hold;
+    if (want_hold != hold_sent) {
+      write_byte(want_hold ? '!' : '~');
+      hold_sent = want_hold;
+    }
+    while (next_line < n) {
+      const size_t bytes = p.lines[next_line].size() + 1;
+      if (counting ? !window.fits(bytes) : !in_flight.empty()) break;
+      write_line(p.lines[next_line]);
+      window.sent(bytes);
+      in_flight.push_back(next_line++);
+    }
+    if (check_mode && acked == n) {
+      report(true);
+      return;  // check mode moves nothing: every line answered is the end
+    }
+    const auto now = Clock::now();
+    if (now - last_rx_ >= t_.silent) {
+      // Whatever it is doing, it must not go on doing it unattended.
+      write_byte('!');
+      write_byte(kSoftReset);
+      throw Silent("GRBL stopped answering (nothing for " + seconds_text(t_.silent) + ") after " +
+                   std::to_string(acked) + " of " + std::to_string(n) + " lines; sent feed hold and reset");
+    }
+    if (now - last_poll >= t_.poll) {
+      write_byte('?');
+      last_poll = now;
+      if (acked == n) done_polled = true;
+    }
+    auto r = next(std::min(last_poll + t_.poll, now + kSlice));
+    if (!r) continue;
+    switch (r->kind) {
+      case Reply::ok:
+        if (in_flight.empty()) throw std::runtime_error("GRBL sent 'ok' with no line in flight (protocol out of step)");
+        in_flight.pop_front();
+        window.acked();
+        ++acked;
+        report(acked == n);
+        break;
+      case Reply::error: {
+        if (in_flight.empty())
+          throw std::runtime_error("GRBL sent error:" + std::to_string(r->code) + " with no line in flight");
+        const size_t k = in_flight.front();
+        stop_machine();  // lines already queued would still run
+        throw GrblError(r->code, static_cast<size_t>(p.source_line[k]), p.source_text[k]);
+      }
+      case Reply::alarm:
+        reset_after_alarm();
+        throw GrblAlarm(r->code);
+      case Reply::banner: {
+        const int at = acked < n ? p.source_line[acked] : p.source_line.empty() ? 0 : p.source_line.back();
+        throw std::runtime_error("GRBL restarted during the job (near line " + std::to_string(at) +
+                                 "); the rest of the job was not run");
+      }
+      case Reply::status:
+        // Done once a report requested after the last ok says Idle with an empty planner.
+        if (acked == n && done_polled && last_status_.state == "Idle" &&
+            (last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks)) {
+          report(true);
+          return;
+        }
+        report(false);
+        break;
+      default:
+        break;
+    }
+  }
+}
+
+void Session::stream(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress) {
+  run_lines(p, mode, c, on_progress, false);
+}
+
+void Session::check(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress) {
+  command("$C");  // "[MSG:Enabled]", ok; error:8 unless Idle
+  run_lines(p, mode, c, on_progress, true);
+  // Leaving check mode makes GRBL reset itself: "[MSG:Disabled]", ok, then the banner.
+  // Anything sent before the banner would be lost with the cleared receive buffer.
+  write_line("$C");
+  const auto deadline = Clock::now() + t_.stop;
+  for (bool ok = false, banner = false; !(ok && banner);) {
+    auto r = next(deadline);
+    if (!r)
+      throw Silent(std::string("GRBL did not ") + (ok ? "restart" : "answer '$C'") + " within " +
+                   seconds_text(t_.stop) + " when leaving check mode");
+    if (r->kind == Reply::ok) ok = true;
+    else if (r->kind == Reply::banner) banner = true;
+    else if (r->kind == Reply::error) throw GrblError(r->code, 0, "$C");
+  }
+}
+
+void Session::frame(const Bounds& b, double feed_mm_min, Controls& c) {
+  stream(frame_program(b, feed_mm_min), StreamMode::character_counting, c, {});
+}
+
+}  // namespace atelier::grbl

@@ -1,0 +1,157 @@
+// The host side of a GRBL 1.1 session (../shared/protocols/grbl-1.1.md) over a Transport:
+// banner and setup ($I, $$), single commands by send-response, job streaming by character
+// counting (or send-response), check mode, feed hold / resume, and cancel that leaves the
+// beam off with the position kept. Follows GRBL 1.1h's own report.c/protocol.c formats, so
+// it works against real controllers, grbl-sim and tools/laser_emu alike.
+//
+// Threading: one Session per transport, used from one thread (the device worker). Controls
+// may be set from any thread; the session reacts within ~20 ms.
+// Errors: LinkLost (from the transport) propagates unchanged; the classes below say what
+// went wrong with a message for the operator. A controller that restarts by itself in the
+// middle of a command or job (banner out of turn) is a std::runtime_error saying so.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "drivers/grbl/messages.h"
+#include "drivers/grbl/program.h"
+#include "drivers/transport.h"
+
+namespace atelier::grbl {
+
+struct Timeouts {
+  std::chrono::milliseconds banner{2500};  // banner after opening (boards reset on open), then again after 0x18
+  std::chrono::milliseconds reply{3000};   // answers to setup commands ($I, $$, $C) and to '?'
+  std::chrono::milliseconds poll{200};     // status '?' every 200 ms = 5 Hz at most
+  std::chrono::milliseconds silent{10000}; // nothing at all received (status polls unanswered)
+  std::chrono::milliseconds stop{3000};    // feed hold to settle; banner after a soft reset
+};
+
+struct MachineInfo {
+  std::string version;         // "1.1h" from the banner, "1.1h.20190830" once $I answered
+  int rx_buffer = 128;         // receive buffer bytes ([OPT:...,blocks,bytes])
+  int planner_blocks = 15;     // planner blocks free when empty ([OPT:...,blocks,bytes])
+  std::map<int, double> settings;  // $$
+  double s_max = 1000, s_min = 0;  // $30, $31
+  bool laser_mode = false;         // $32
+  double max_travel_x = 0, max_travel_y = 0;  // $130/$131, mm
+  bool soft_limits = false;                   // $20
+  bool alarm_locked = false;  // in Alarm: G-code refused (error:9) until $X or $H
+};
+
+enum class StreamMode { character_counting, send_response };
+
+struct Progress {
+  size_t acked = 0, total = 0;  // program lines acknowledged / in the program
+  double seconds_left = 0;      // estimate from Program::seconds and the planner fill
+  Status status;                // the last status report (MPos)
+};
+
+struct Controls {
+  std::atomic<bool> cancel{false};  // set from any thread
+  std::atomic<bool> hold{false};    // true: feed hold ('!'); back to false: resume ('~')
+};
+
+// GRBL refused a line. what(): "line 12 (G1X500Y10F600): error:33 invalid target: ..."
+// (the source line number and text); for a single command "command '$C': error:8 ...".
+class GrblError : public std::runtime_error {
+ public:
+  GrblError(int code, size_t line_number, std::string line);
+  int code;
+  size_t line_number;  // 1-based source line; 0 for command()
+  std::string line;
+};
+
+// GRBL raised an alarm. what(): "ALARM:2 soft limit: ...".
+class GrblAlarm : public std::runtime_error {
+ public:
+  explicit GrblAlarm(int code);
+  int code;
+};
+
+class SetupError : public std::runtime_error {  // no banner, laser mode off ($32=0), bad $I, ...
+ public:
+  using std::runtime_error::runtime_error;
+};
+class Silent : public std::runtime_error {  // the controller stopped answering (the link is up)
+ public:
+  using std::runtime_error::runtime_error;
+};
+class Canceled : public std::runtime_error {  // stream ended by Controls::cancel
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Session {
+ public:
+  using ProgressFn = std::function<void(const Progress&)>;
+
+  explicit Session(Transport& link, Timeouts t = {});
+
+  // Waits for the banner "Grbl 1.1x ['$' for help]"; if none comes within timeouts.banner,
+  // sends a soft reset (0x18) once and waits again (that also stops an old queue still
+  // running from an earlier connection). Then $I and $$. Throws SetupError if there is no
+  // banner, the firmware is not GRBL 1.1, or laser mode is off ($32=0). Notes an alarm lock.
+  MachineInfo connect();
+  const MachineInfo& info() const { return info_; }
+
+  // Sends one line and waits for its ok (send-response; for $ commands and single G-code
+  // lines). Throws GrblError on error:N, GrblAlarm on ALARM:N, Silent when nothing arrives.
+  void command(const std::string& line);
+  Status query_status();  // sends '?', waits for the <...> report (timeouts.reply)
+  void unlock();          // $X
+
+  // Dry run in GRBL check mode: $C, stream (G-code parsed, nothing moves), $C again, which
+  // makes GRBL reset itself ("[MSG:Disabled]", ok, banner): waits for that banner.
+  // Throws GrblError for the first refused line (after a soft reset that leaves check mode).
+  void check(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress);
+
+  // Streams every line and returns once all are acknowledged and the machine is Idle again.
+  // error:N: stops sending, feed hold, soft reset (the queued lines must not run), M5, then
+  // GrblError for that line. ALARM:N: soft reset (alarms 1 and 2 wait for one), GrblAlarm.
+  // Controls::hold: '!' when it becomes true, '~' when it becomes false. Controls::cancel:
+  // '!', wait for Hold:0/Idle (timeouts.stop), 0x18, banner, $X if the reset raised ALARM:3,
+  // M5, then Canceled. Nothing received for timeouts.silent: Silent.
+  void stream(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress);
+
+  // Traces the bounds with the beam off (frame_program) at feed_mm_min; waits for Idle.
+  void frame(const Bounds& b, double feed_mm_min, Controls& c);
+
+  const Status& last_status() const { return last_status_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void write_line(const std::string& line);
+  void write_byte(uint8_t b);
+  // The next non-empty line from the controller, or nullopt once `deadline` passes.
+  std::optional<std::string> read_line(Clock::time_point deadline);
+  // The next line, classified; status reports update last_status_ and the unlock hint
+  // sets info_.alarm_locked on the way.
+  std::optional<Reply> next(Clock::time_point deadline);
+  bool wait_banner(std::chrono::milliseconds limit);
+  // A setup query ($I, $$): the lines before its ok. Throws SetupError.
+  std::vector<Reply> setup_query(const std::string& cmd);
+  void run_lines(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress, bool check_mode);
+  // Cancel/error path: feed hold, settle, soft reset, banner, $X after our ALARM:3, M5.
+  void stop_machine();
+  // After ALARM:N: soft reset so the alarm's lock-up ends and the queue is dropped.
+  void reset_after_alarm();
+
+  Transport& link_;
+  Timeouts t_;
+  MachineInfo info_;
+  std::string rx_;                         // bytes after the last complete line
+  Clock::time_point last_rx_;              // when anything last arrived
+  Status last_status_;
+  std::optional<std::array<double, 3>> wco_;  // last work coordinate offset reported
+};
+
+}  // namespace atelier::grbl

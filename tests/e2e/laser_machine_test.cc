@@ -1,0 +1,253 @@
+// End to end: atelierd cuts SVGs on the GRBL laser emulator (a pseudo-terminal), and the
+// emulator's record of what the beam did is compared with what the SVG asked for.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <thread>
+
+#include "daemon/convert/svg_paths.h"
+#include "tests/e2e/daemon_harness.h"
+
+namespace fs = std::filesystem;
+using atelier::test::BackgroundProcess;
+using atelier::test::DaemonProcess;
+using atelier::test::TempDir;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kPxPerMm = 5;
+constexpr double kWorkMm = 400;
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+fs::path svg(const std::string& name) { return atelier::test::test_image("svg/" + name); }
+
+struct LaserRig {
+  TempDir tmp;
+  fs::path link = tmp.path() / "laser";
+  fs::path record = tmp.path() / "record.json";
+  fs::path render = tmp.path() / "burn.png";
+  std::unique_ptr<BackgroundProcess> emulator;
+  std::unique_ptr<DaemonProcess> daemon;
+
+  LaserRig(std::vector<std::string> emu_args, const std::string& toml = "", double time_scale = 0.02) {
+    std::vector<std::string> argv = {atelier::test::binary("atelier-laser-emu").string(),
+                                     "--link", link.string(), "--record", record.string(),
+                                     "--render", render.string(), "--px-per-mm", "5",
+                                     "--time-scale", std::to_string(time_scale)};
+    argv.insert(argv.end(), emu_args.begin(), emu_args.end());
+    emulator = std::make_unique<BackgroundProcess>(argv, tmp.path() / "emu.log");
+    for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    daemon = std::make_unique<DaemonProcess>(
+        tmp.path(), toml + "[[device]]\nname = \"laser\"\ndriver = \"grbl\"\nport = \"" + link.string() +
+                        "\"\nkinds = [\"cut\"]\n");
+    daemon->start();
+  }
+
+  json job(const std::string& name) {
+    for (const auto& j : daemon->jobs())
+      if (j["name"] == name) return j;
+    return nullptr;
+  }
+  bool wait_state(const std::string& name, const std::string& state,
+                  std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    return daemon->wait_for([&] {
+      auto j = job(name);
+      return !j.is_null() && j["state"] == state;
+    }, timeout);
+  }
+  json device() { return daemon->request("devices")["result"][0]; }
+  json ctl(const std::string& verb, const json& id) { return daemon->request(verb, {{"id", id}}); }
+  // Stops the emulator (it writes its record and render on SIGTERM) and reads the record.
+  json finish() {
+    emulator->stop();
+    std::ifstream in(record);
+    return json::parse(in);
+  }
+};
+
+// Whether a record segment burned (beam on while moving).
+bool burned(const json& s) { return s["power"].get<double>() > 0; }
+
+// The drawing's strokes as the render draws them: machine X = x, Y = 400 - y (front-left
+// origin), pixel (X * ppm, (400 - Y) * ppm), i.e. the SVG's own coordinates scaled.
+cv::Mat intended_mask(const fs::path& file) {
+  const auto drawing = atelier::read_svg(file, 0.05);
+  cv::Mat mask(static_cast<int>(kWorkMm * kPxPerMm), static_cast<int>(kWorkMm * kPxPerMm), CV_8U, cv::Scalar(0));
+  for (const auto& shape : drawing.shapes) {
+    if (shape.stroke.empty()) continue;
+    for (const auto& path : shape.paths) {
+      std::vector<cv::Point> pts;
+      for (const auto& p : path.points)
+        pts.emplace_back(cvRound(p.x * kPxPerMm), cvRound(p.y * kPxPerMm));
+      cv::polylines(mask, pts, path.closed, cv::Scalar(255), 1);
+    }
+  }
+  return mask;
+}
+
+// Share of the set pixels of `a` that lie within `tolerance_px` of a set pixel of `b`.
+double covered(const cv::Mat& a, const cv::Mat& b, int tolerance_px) {
+  cv::Mat near;
+  cv::dilate(b, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * tolerance_px + 1, 2 * tolerance_px + 1}));
+  const double total = cv::countNonZero(a);
+  return total == 0 ? 0 : cv::countNonZero(a & near) / total;
+}
+
+}  // namespace
+
+TEST(E2ELaser, ACutJobWaitsForTheOperatorFramesThenBurnsWhatTheSvgShows) {
+  LaserRig rig({}, "[laser]\ncheck_first = true\n");
+  ASSERT_TRUE(rig.daemon->wait_for([&] { return rig.device()["state"] == "online"; }, std::chrono::seconds(10)));
+  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
+  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  const json id = rig.job("box.svg")["id"];
+
+  // A laser job never starts without the operator: still ready a second later.
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  EXPECT_EQ(rig.job("box.svg")["state"], "ready");
+
+  // Framing traces the outline with the beam off and leaves the job ready.
+  ASSERT_TRUE(rig.ctl("frame", id)["ok"]);
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    return rig.device()["last"].get<std::string>().find("framed") != std::string::npos;
+  }, std::chrono::seconds(30))) << rig.device().dump() << rig.daemon->log();
+  EXPECT_EQ(rig.job("box.svg")["state"], "ready");
+
+  ASSERT_TRUE(rig.ctl("start", id)["ok"]);
+  ASSERT_TRUE(rig.wait_state("box.svg", "completed")) << rig.job("box.svg").dump() << rig.daemon->log();
+  auto job = rig.job("box.svg");
+  EXPECT_EQ(job["progress"]["done"], job["progress"]["total"]);
+  EXPECT_GT(job["progress"]["total"].get<int>(), 10);
+
+  const json rec = rig.finish();
+  EXPECT_EQ(rec["rx_overflows"], 0) << "the receive buffer overflowed: a real job would be corrupted";
+  EXPECT_LE(rec["max_rx_bytes"].get<int>(), 128);
+  EXPECT_EQ(rec["errors"], 0);
+  // The frame moved with the beam off: its segments came before the first burn.
+  size_t travel_before_burn = 0;
+  for (const auto& s : rec["segments"]) {
+    if (burned(s)) break;
+    ++travel_before_burn;
+  }
+  EXPECT_GE(travel_before_burn, 4u);
+
+  cv::Mat render = cv::imread(rig.render.string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(render.empty());
+  ASSERT_EQ(render.cols, static_cast<int>(kWorkMm * kPxPerMm));
+  cv::Mat burnt = render < 200;
+  cv::Mat intended = intended_mask(svg("sample-box.svg"));
+  ASSERT_GT(cv::countNonZero(intended), 500);
+  EXPECT_GT(covered(burnt, intended, 2), 0.95) << "burned where the drawing has no stroke";
+  EXPECT_GT(covered(intended, burnt, 2), 0.95) << "a stroke of the drawing was not burned";
+}
+
+TEST(E2ELaser, CancelMidJobTurnsTheBeamOffWithin100Milliseconds) {
+  LaserRig rig({}, "[[laser.layer]]\ncolor = \"#000000\"\nmode = \"cut\"\nspeed_mm_min = 300\npower_pct = 60\n"
+                   "[[laser.layer]]\ncolor = \"#ff0000\"\nmode = \"cut\"\n"
+                   "[[laser.layer]]\ncolor = \"#0000ff\"\nmode = \"engrave\"\nspeed_mm_min = 600\npower_pct = 20\n",
+               0.25);
+  ASSERT_TRUE(rig.daemon->wait_for([&] { return rig.device()["state"] == "online"; }, std::chrono::seconds(10)));
+  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
+  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  const json id = rig.job("box.svg")["id"];
+  ASSERT_TRUE(rig.ctl("start", id)["ok"]);
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    auto j = rig.job("box.svg");
+    return j["state"] == "running" && j["progress"]["done"].get<int>() > 20;
+  }, std::chrono::seconds(30))) << rig.job("box.svg").dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+
+  const double asked = now_s();
+  ASSERT_TRUE(rig.ctl("cancel", id)["ok"]);
+  ASSERT_TRUE(rig.wait_state("box.svg", "canceled", std::chrono::seconds(10))) << rig.job("box.svg").dump();
+  EXPECT_NE(rig.job("box.svg")["reason"].get<std::string>().find("beam off"), std::string::npos);
+
+  const json rec = rig.finish();
+  double last_burn = 0;
+  size_t burns_before = 0;
+  for (const auto& s : rec["segments"]) {
+    if (!burned(s)) continue;
+    last_burn = std::max(last_burn, s["t1"].get<double>());
+    if (s["t0"].get<double>() < asked) ++burns_before;
+  }
+  ASSERT_GT(burns_before, 0u) << "the job had not started burning when it was canceled";
+  EXPECT_LT(last_burn - asked, 0.1) << "the beam burned " << (last_burn - asked) * 1000
+                                    << " ms after the cancel request";
+  EXPECT_EQ(rec["rx_overflows"], 0);
+}
+
+TEST(E2ELaser, AnAlarmFailsTheJobWithItsMeaning) {
+  LaserRig rig({"--fault", "alarm-at-line=15:1"});
+  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
+  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  ASSERT_TRUE(rig.ctl("start", rig.job("box.svg")["id"])["ok"]);
+  ASSERT_TRUE(rig.wait_state("box.svg", "failed")) << rig.job("box.svg").dump();
+  const std::string reason = rig.job("box.svg")["reason"];
+  EXPECT_NE(reason.find("ALARM:1"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("imit"), std::string::npos) << reason;  // "Hard limit"
+}
+
+TEST(E2ELaser, AGcodeErrorFailsTheJobNamingTheLineAndTheMeaning) {
+  LaserRig rig({});
+  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
+  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  auto job = rig.job("box.svg");
+  // Someone edits the ready job's G-code by hand and leaves a bad line in it.
+  const fs::path gcode = fs::path(job["output_dir"].get<std::string>()) / "job.gcode";
+  std::ifstream in(gcode);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string edited = text.str();
+  const size_t at = edited.find("\nG1");
+  ASSERT_NE(at, std::string::npos);
+  edited.insert(at + 1, "G1 X10 Y10 Q5\n");
+  atelier::test::write_file(gcode, edited);
+
+  ASSERT_TRUE(rig.ctl("start", job["id"])["ok"]);
+  ASSERT_TRUE(rig.wait_state("box.svg", "failed")) << rig.job("box.svg").dump();
+  const std::string reason = rig.job("box.svg")["reason"];
+  EXPECT_NE(reason.find("error:20"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("Q5"), std::string::npos) << reason;
+  const json rec = rig.finish();
+  EXPECT_EQ(rec["rx_overflows"], 0);
+}
+
+TEST(E2ELaser, ALostLinkInterruptsTheJobAndNothingMovesAgainUntilAnOperatorActs) {
+  LaserRig rig({"--fault", "drop-at-line=25", "--replug-ms", "800"});
+  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
+  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  ASSERT_TRUE(rig.ctl("start", rig.job("box.svg")["id"])["ok"]);
+  ASSERT_TRUE(rig.wait_state("box.svg", "interrupted")) << rig.job("box.svg").dump();
+  const std::string reason = rig.job("box.svg")["reason"];
+  EXPECT_NE(reason.find("retry"), std::string::npos) << reason;
+
+  // The controller comes back: the device is online again, and the job stays interrupted.
+  ASSERT_TRUE(rig.daemon->wait_for([&] { return rig.device()["state"] == "online"; }, std::chrono::seconds(15)))
+      << rig.device().dump();
+  const double back = now_s();
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  EXPECT_EQ(rig.job("box.svg")["state"], "interrupted");
+  const json rec = rig.finish();
+  for (const auto& s : rec["segments"]) EXPECT_LT(s["t0"].get<double>(), back) << s.dump();
+}
+
+TEST(E2ELaser, AJobBeyondTheMachinesTravelFailsBeforeAnythingIsSent) {
+  // The config believes in a 400 mm bed; the controller's travel is 100 x 100 mm.
+  LaserRig rig({"--work-area", "100x100"});
+  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
+  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  ASSERT_TRUE(rig.ctl("start", rig.job("box.svg")["id"])["ok"]);
+  ASSERT_TRUE(rig.wait_state("box.svg", "failed")) << rig.job("box.svg").dump();
+  const std::string reason = rig.job("box.svg")["reason"];
+  EXPECT_NE(reason.find("travel"), std::string::npos) << reason;
+  const json rec = rig.finish();
+  EXPECT_TRUE(rec["segments"].empty()) << rec["segments"].dump();
+}

@@ -1,0 +1,627 @@
+// The GRBL host session against a scripted controller on an in-memory link: a test thread
+// plays GRBL 1.1h (banner, $I, $$, receive buffer with a 15-block planner, real-time bytes,
+// check mode, alarms) and records what the host sent, so the tests assert what a user of a
+// real laser would notice: nothing overflows, errors name the line, cancel stops the beam.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "drivers/grbl/session.h"
+#include "drivers/memory_transport.h"
+
+namespace atelier::grbl {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+struct FakeScript {
+  bool banner_at_start = true;  // false: the board printed it before we opened the port
+  bool start_in_alarm = false;  // homing lock after power-up
+  int laser_mode = 1;           // $32
+  int error_at = -1;            // 0-based G-code line answered error:33
+  int alarm_at = -1;            // G-code line that raises ALARM:2 (soft limit)
+  int silent_at = -1;           // from this G-code line on, answer nothing at all
+  int disconnect_at = -1;       // unplug when this G-code line arrives
+  bool hold_never_settles = false;         // stays Hold:1 (the host must reset anyway)
+  std::chrono::milliseconds motion{3};     // time each G-code motion line takes
+};
+
+// Plays GRBL 1.1h on one end of a memory pair.
+class FakeGrbl {
+ public:
+  FakeGrbl(MemoryTransport& link, FakeScript script) : link_(link), s_(script), thread_([this] { run(); }) {}
+  ~FakeGrbl() {
+    stop_ = true;
+    thread_.join();
+  }
+
+  // What the host sent, in order: "line:TEXT" when a line's newline arrived, "!", "~",
+  // "reset" (0x18). Status requests are counted, not listed.
+  std::vector<std::string> events() {
+    std::lock_guard lock(mutex_);
+    return events_;
+  }
+  std::vector<std::string> executed() {  // G-code lines parsed, in order
+    std::lock_guard lock(mutex_);
+    return executed_;
+  }
+  size_t max_buffered() const { return max_buffered_; }        // most bytes in the receive buffer
+  size_t max_lines_buffered() const { return max_lines_; }     // most complete lines waiting there
+  int status_requests() const { return status_requests_; }
+  bool overflowed() const { return overflowed_; }
+  std::string state_name() {  // as of the fake's last loop turn (1 ms ago at most)
+    std::lock_guard lock(mutex_);
+    return published_state_;
+  }
+
+ private:
+  void send(const std::string& line) {
+    const std::string wire = line + "\r\n";
+    link_.write(reinterpret_cast<const uint8_t*>(wire.data()), wire.size());
+  }
+  void event(std::string e) {
+    std::lock_guard lock(mutex_);
+    events_.push_back(std::move(e));
+  }
+  void banner() {
+    send("");
+    send("Grbl 1.1h ['$' for help]");
+    if (alarm_) send("[MSG:'$H'|'$X' to unlock]");
+  }
+
+  // Fake's thread only.
+  std::string state() const {
+    if (alarm_) return "Alarm";
+    if (check_) return "Check";
+    if (held_) {
+      const bool stopping = s_.hold_never_settles || (motion_left_ > 0 && Clock::now() - hold_since_ < 30ms);
+      return stopping ? "Hold:1" : "Hold:0";
+    }
+    return motion_left_ > 0 ? "Run" : "Idle";
+  }
+  int blocks() const {
+    return static_cast<int>(std::ceil(motion_left_ / static_cast<double>(s_.motion.count())));
+  }
+
+  void reset() {
+    event("reset");
+    buffer_.clear();
+    partial_.clear();
+    const bool moving = !alarm_ && (state() == "Run" || state() == "Hold:1");
+    motion_left_ = 0;
+    held_ = false;
+    check_ = false;
+    critical_ = false;
+    if (moving) {
+      send("ALARM:3");
+      alarm_ = true;
+    }
+    banner();
+  }
+
+  void realtime(uint8_t b) {
+    switch (b) {
+      case '?':
+        ++status_requests_;
+        send("<" + state() + "|MPos:1.000,2.000,0.000|Bf:" + std::to_string(15 - blocks()) + "," +
+             std::to_string(128 - buffer_.size()) + "|FS:600,300>");
+        break;
+      case '!':
+        event("!");
+        if (!alarm_ && !check_ && !held_) {
+          held_ = true;
+          hold_since_ = Clock::now();
+        }
+        break;
+      case '~':
+        event("~");
+        held_ = false;
+        break;
+      case 0x18:
+        reset();
+        break;
+    }
+  }
+
+  void execute(const std::string& line) {
+    if (line.empty()) return send("ok");
+    if (line == "$I") {
+      send("[VER:1.1h.20190830:]");
+      send("[OPT:V,15,128]");
+      return send("ok");
+    }
+    if (line == "$$") {
+      const char* settings[] = {"$0=10", "$1=25", "$10=1", "$20=1", "$21=0", "$22=0", "$30=1000", "$31=0",
+                                "$100=80.000", "$110=6000.000", "$130=400.000", "$131=300.000", "$132=0.000"};
+      for (const char* st : settings) send(st);
+      send("$32=" + std::to_string(s_.laser_mode));
+      return send("ok");
+    }
+    if (line == "$C") {
+      if (check_) {
+        send("[MSG:Disabled]");
+        send("ok");
+        return reset();  // GRBL resets itself when check mode is turned off
+      }
+      if (alarm_ || state() != "Idle") return send("error:8");
+      check_ = true;
+      send("[MSG:Enabled]");
+      return send("ok");
+    }
+    if (line == "$X") {
+      if (alarm_) send("[MSG:Caution: Unlocked]");
+      alarm_ = false;
+      return send("ok");
+    }
+    if (line[0] == '$') return send("ok");
+
+    const int g = gcode_++;
+    {
+      std::lock_guard lock(mutex_);
+      executed_.push_back(line);
+    }
+    if (g == s_.silent_at) {
+      silent_ = true;
+      return;
+    }
+    if (g == s_.disconnect_at) {
+      link_.disconnect();
+      return;
+    }
+    if (alarm_) return send("error:9");
+    if (g == s_.error_at) return send("error:33");
+    if (g == s_.alarm_at) {
+      motion_left_ = 0;
+      alarm_ = true;
+      critical_ = true;  // like hard/soft limits: nothing more until a reset
+      send("ALARM:2");
+      return send("[MSG:Reset to continue]");
+    }
+    if (!check_ && line.find('X') != std::string::npos) motion_left_ += s_.motion.count();
+    send("ok");
+  }
+
+  void run() {
+    if (s_.start_in_alarm) alarm_ = true;
+    try {
+      if (s_.banner_at_start) banner();
+      uint8_t buf[256];
+      auto last = Clock::now();
+      while (!stop_) {
+        const size_t n = link_.read(buf, sizeof buf, 1ms);
+        if (silent_) continue;
+        for (size_t i = 0; i < n; ++i) {
+          const uint8_t b = buf[i];
+          if (b == '?' || b == '!' || b == '~' || b == 0x18) {
+            realtime(b);
+            continue;
+          }
+          buffer_.push_back(static_cast<char>(b));
+          if (buffer_.size() > 128) overflowed_ = true;
+          max_buffered_ = std::max(max_buffered_.load(), buffer_.size());
+          if (b == '\n') {
+            event("line:" + partial_);
+            partial_.clear();
+            max_lines_ = std::max<size_t>(max_lines_, std::count(buffer_.begin(), buffer_.end(), '\n'));
+          } else {
+            partial_.push_back(static_cast<char>(b));
+          }
+        }
+        const auto now = Clock::now();
+        const auto elapsed = std::chrono::duration_cast<std::chrono::microseconds>(now - last).count() / 1000.0;
+        last = now;
+        if (!held_ && motion_left_ > 0) motion_left_ = std::max(0.0, motion_left_ - elapsed);
+        // Parse lines while the planner has room (GRBL stops reading when it is full).
+        while (!critical_ && !silent_ && blocks() < 15) {
+          const size_t nl = buffer_.find('\n');
+          if (nl == std::string::npos) break;
+          std::string line = buffer_.substr(0, nl);
+          buffer_.erase(0, nl + 1);
+          execute(line);
+        }
+        std::lock_guard lock(mutex_);
+        published_state_ = state();
+      }
+    } catch (const LinkLost&) {
+    }
+  }
+
+  MemoryTransport& link_;
+  FakeScript s_;
+  std::string buffer_, partial_;
+  double motion_left_ = 0;  // ms of motion queued
+  bool held_ = false, check_ = false, alarm_ = false, critical_ = false, silent_ = false;
+  Clock::time_point hold_since_;
+  int gcode_ = 0;
+  std::atomic<size_t> max_buffered_{0}, max_lines_{0};
+  std::atomic<int> status_requests_{0};
+  std::atomic<bool> overflowed_{false};
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::vector<std::string> events_, executed_;
+  std::string published_state_ = "Idle";
+  std::thread thread_;  // last: starts once everything above exists
+};
+
+Timeouts fast() {
+  Timeouts t;
+  t.banner = 300ms;
+  t.reply = 1000ms;
+  t.poll = 20ms;
+  t.silent = 500ms;
+  t.stop = 500ms;
+  return t;
+}
+
+// A job of `n` moves with lines of varied length, behind a two-line header.
+std::string job_text(int n) {
+  std::string g = "; s_max=1000\n; bounds=0,0,400,300\nG21 G90\n";
+  for (int i = 0; i < n; ++i) {
+    g += "G1 X" + std::to_string(i % 400) + "." + std::to_string(i % 1000) + " Y" + std::to_string((i * 7) % 300) +
+         " F600 S" + std::to_string(i % 1000);
+    if (i % 5 == 0) g += " (a comment) " + std::string(static_cast<size_t>(i % 40), ' ');
+    g += "\n";
+  }
+  return g + "M5\n";
+}
+
+std::vector<std::string> program_lines_in(const std::vector<std::string>& events, const Program& p) {
+  std::vector<std::string> out;
+  for (const auto& e : events)
+    if (e.rfind("line:", 0) == 0 && std::find(p.lines.begin(), p.lines.end(), e.substr(5)) != p.lines.end())
+      out.push_back(e.substr(5));
+  return out;
+}
+
+size_t index_of(const std::vector<std::string>& v, const std::string& s, size_t from = 0) {
+  for (size_t i = from; i < v.size(); ++i)
+    if (v[i] == s) return i;
+  return v.size();
+}
+
+TEST(GrblSession, ConnectReadsBuildInfoAndSettings) {
+  auto [host, ctl] = make_memory_pair();
+  FakeGrbl fake(*ctl, {});
+  Session s(*host, fast());
+  const MachineInfo info = s.connect();
+  EXPECT_EQ(info.version, "1.1h.20190830");
+  EXPECT_EQ(info.rx_buffer, 128);
+  EXPECT_EQ(info.planner_blocks, 15);
+  EXPECT_TRUE(info.laser_mode);
+  EXPECT_DOUBLE_EQ(info.s_max, 1000);
+  EXPECT_DOUBLE_EQ(info.max_travel_x, 400);
+  EXPECT_DOUBLE_EQ(info.max_travel_y, 300);
+  EXPECT_TRUE(info.soft_limits);
+  EXPECT_FALSE(info.alarm_locked);
+  EXPECT_DOUBLE_EQ(info.settings.at(110), 6000);
+  EXPECT_EQ(index_of(fake.events(), "reset"), fake.events().size());  // the banner came: no reset needed
+}
+
+TEST(GrblSession, ConnectResetsABoardThatPrintedItsBannerBeforeWeOpened) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.banner_at_start = false;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  EXPECT_EQ(s.connect().version, "1.1h.20190830");
+  const auto ev = fake.events();
+  ASSERT_FALSE(ev.empty());
+  EXPECT_EQ(ev[0], "reset");
+}
+
+TEST(GrblSession, ConnectNotesTheAlarmLock) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.start_in_alarm = true;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  EXPECT_TRUE(s.connect().alarm_locked);
+  s.unlock();
+  EXPECT_FALSE(s.info().alarm_locked);
+  EXPECT_EQ(s.query_status().state, "Idle");
+}
+
+TEST(GrblSession, LaserModeOffIsASetupErrorThatSaysWhatToDo) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.laser_mode = 0;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  try {
+    s.connect();
+    FAIL() << "expected SetupError";
+  } catch (const SetupError& e) {
+    EXPECT_STREQ(e.what(), "laser mode is off ($32=0); set $32=1 on the controller");
+  }
+}
+
+TEST(GrblSession, NoControllerIsASetupError) {
+  auto [host, ctl] = make_memory_pair();  // nothing answers
+  Session s(*host, fast());
+  try {
+    s.connect();
+    FAIL() << "expected SetupError";
+  } catch (const SetupError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("no GRBL banner within 0.3 s, nor after a soft reset", 0), 0u) << e.what();
+  }
+}
+
+TEST(GrblSession, CharacterCountingFillsButNeverOverflowsTheReceiveBuffer) {
+  auto [host, ctl] = make_memory_pair();
+  FakeGrbl fake(*ctl, {});
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(400), 6000);
+  Controls c;
+  std::vector<Progress> progress;
+  s.stream(p, StreamMode::character_counting, c, [&](const Progress& pr) { progress.push_back(pr); });
+
+  EXPECT_FALSE(fake.overflowed());
+  EXPECT_LE(fake.max_buffered(), 127u);
+  EXPECT_GE(fake.max_buffered(), 100u);  // the window is used, not one line at a time
+  EXPECT_GT(fake.max_lines_buffered(), 2u);
+  // Every line arrived once, in order, and was executed.
+  EXPECT_EQ(program_lines_in(fake.events(), p), p.lines);
+  EXPECT_EQ(fake.executed(), p.lines);
+  ASSERT_FALSE(progress.empty());
+  EXPECT_EQ(progress.back().acked, p.lines.size());
+  EXPECT_EQ(progress.back().total, p.lines.size());
+  EXPECT_DOUBLE_EQ(progress.back().seconds_left, 0);
+  EXPECT_EQ(progress.back().status.state, "Idle");  // returned once motion was done
+  EXPECT_EQ(fake.state_name(), "Idle");
+  for (size_t i = 1; i < progress.size(); ++i) EXPECT_GE(progress[i].acked, progress[i - 1].acked);
+  // Status polls stayed within the configured rate (20 ms here; 5 Hz by default).
+  EXPECT_GT(fake.status_requests(), 0);
+}
+
+TEST(GrblSession, SendResponseKeepsOneLineInFlight) {
+  auto [host, ctl] = make_memory_pair();
+  FakeGrbl fake(*ctl, {});
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(60), 6000);
+  Controls c;
+  s.stream(p, StreamMode::send_response, c, {});
+  EXPECT_EQ(fake.max_lines_buffered(), 1u);
+  EXPECT_EQ(fake.executed(), p.lines);
+}
+
+TEST(GrblSession, ErrorNamesTheSourceLineAndStopsSending) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.error_at = 20;  // G-code line 20 = the 20th move (line 0 is G21G90)
+  script.motion = 20ms;  // slow motion, so the buffer is full when the error comes
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(200), 6000);
+  Controls c;
+  try {
+    s.stream(p, StreamMode::character_counting, c, {});
+    FAIL() << "expected GrblError";
+  } catch (const GrblError& e) {
+    EXPECT_EQ(e.code, 33);
+    // Lines 1-2 are header comments, line 3 "G21 G90" (G-code line 0): G-code line 20 is line 23.
+    EXPECT_EQ(e.line_number, 23u);
+    EXPECT_EQ(e.line, p.source_text[20]);
+    EXPECT_EQ(std::string(e.what()),
+              "line 23 (" + p.source_text[20] + "): error:33 invalid target: motion command target is invalid");
+  }
+  const auto ev = fake.events();
+  const size_t hold = index_of(ev, "!");
+  const size_t reset = index_of(ev, "reset", hold);
+  ASSERT_LT(hold, ev.size());
+  ASSERT_LT(reset, ev.size());
+  // Once the host had seen the error (it then sent '!'), no job line followed.
+  for (size_t i = hold; i < ev.size(); ++i)
+    EXPECT_TRUE(ev[i].rfind("line:", 0) != 0 || ev[i] == "line:M5" || ev[i] == "line:$X") << ev[i];
+  EXPECT_LT(index_of(ev, "line:M5", reset), ev.size());  // beam off after the reset
+  // The lines queued behind the error never ran: the reset dropped them.
+  EXPECT_LT(fake.executed().size(), 40u);
+}
+
+TEST(GrblSession, AlarmFailsTheJobWithItsMeaning) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.alarm_at = 10;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(100), 6000);
+  Controls c;
+  try {
+    s.stream(p, StreamMode::character_counting, c, {});
+    FAIL() << "expected GrblAlarm";
+  } catch (const GrblAlarm& e) {
+    EXPECT_EQ(e.code, 2);
+    EXPECT_EQ(std::string(e.what()).rfind("ALARM:2 soft limit: G-code motion target exceeds machine travel", 0), 0u)
+        << e.what();
+  }
+  EXPECT_LT(index_of(fake.events(), "reset"), fake.events().size());  // GRBL waits for one after a limit alarm
+  EXPECT_TRUE(s.info().alarm_locked);  // left for the operator to unlock
+}
+
+TEST(GrblSession, CancelHoldsResetsAndTurnsTheBeamOff) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.motion = 10ms;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(300), 6000);
+  Controls c;
+  const auto t0 = Clock::now();
+  EXPECT_THROW(s.stream(p, StreamMode::character_counting, c,
+                        [&](const Progress& pr) {
+                          if (pr.acked >= 30) c.cancel = true;
+                        }),
+               Canceled);
+  EXPECT_LT(Clock::now() - t0, 5s);
+  const auto ev = fake.events();
+  const size_t hold = index_of(ev, "!");
+  const size_t reset = index_of(ev, "reset", hold);
+  const size_t m5 = index_of(ev, "line:M5", reset);
+  ASSERT_LT(hold, ev.size());
+  ASSERT_LT(reset, ev.size());
+  ASSERT_LT(m5, ev.size());
+  EXPECT_EQ(index_of(ev, "line:$X"), ev.size());  // the hold settled: no alarm to clear
+  EXPECT_LT(fake.executed().size(), p.lines.size());
+  EXPECT_EQ(fake.state_name(), "Idle");
+}
+
+TEST(GrblSession, CancelClearsTheAlarmItsOwnResetRaised) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.motion = 10ms;
+  script.hold_never_settles = true;  // still decelerating when the host gives up waiting
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(300), 6000);
+  Controls c;
+  EXPECT_THROW(s.stream(p, StreamMode::character_counting, c,
+                        [&](const Progress& pr) {
+                          if (pr.acked >= 30) c.cancel = true;
+                        }),
+               Canceled);
+  const auto ev = fake.events();
+  const size_t reset = index_of(ev, "reset", index_of(ev, "!"));
+  const size_t unlock = index_of(ev, "line:$X", reset);
+  ASSERT_LT(unlock, ev.size());
+  EXPECT_LT(index_of(ev, "line:M5", unlock), ev.size());
+  EXPECT_FALSE(s.info().alarm_locked);
+}
+
+TEST(GrblSession, HoldAndResumeSendTheRealTimeBytes) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.motion = 5ms;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(120), 6000);
+  Controls c;
+  std::thread releaser;
+  bool held_seen = false;
+  s.stream(p, StreamMode::character_counting, c, [&](const Progress& pr) {
+    if (pr.status.state == "Hold") held_seen = true;
+    if (pr.acked >= 20 && !releaser.joinable()) {
+      c.hold = true;
+      releaser = std::thread([&] {
+        std::this_thread::sleep_for(300ms);
+        c.hold = false;
+      });
+    }
+  });
+  releaser.join();
+  EXPECT_TRUE(held_seen);
+  const auto ev = fake.events();
+  EXPECT_EQ(std::count(ev.begin(), ev.end(), "!"), 1);
+  EXPECT_EQ(std::count(ev.begin(), ev.end(), "~"), 1);
+  EXPECT_LT(index_of(ev, "!"), index_of(ev, "~"));
+  EXPECT_EQ(fake.executed(), p.lines);  // resumed and finished
+}
+
+TEST(GrblSession, SilentControllerIsDetected) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.silent_at = 5;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(50), 6000);
+  Controls c;
+  const auto t0 = Clock::now();
+  EXPECT_THROW(s.stream(p, StreamMode::character_counting, c, {}), Silent);
+  EXPECT_LT(Clock::now() - t0, 3s);
+}
+
+TEST(GrblSession, LostLinkPropagates) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.disconnect_at = 5;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(50), 6000);
+  Controls c;
+  EXPECT_THROW(s.stream(p, StreamMode::character_counting, c, {}), LinkLost);
+}
+
+TEST(GrblSession, CheckModeRunsTheJobThenWaitsForTheResetThatEndsIt) {
+  auto [host, ctl] = make_memory_pair();
+  FakeGrbl fake(*ctl, {});
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(80), 6000);
+  Controls c;
+  size_t acked = 0;
+  s.check(p, StreamMode::character_counting, c, [&](const Progress& pr) { acked = pr.acked; });
+  EXPECT_EQ(acked, p.lines.size());
+  const auto ev = fake.events();
+  const size_t on = index_of(ev, "line:$C");
+  const size_t off = index_of(ev, "line:$C", on + 1);
+  ASSERT_LT(off, ev.size());
+  std::vector<std::string> expected;
+  for (const auto& l : p.lines) expected.push_back("line:" + l);
+  EXPECT_EQ(std::vector<std::string>(ev.begin() + on + 1, ev.begin() + off), expected);
+  EXPECT_LT(index_of(ev, "reset", off), ev.size());  // GRBL reset itself on leaving check mode
+  // The session waited for the banner: the next command is answered normally.
+  s.command("G0X0Y0");
+  EXPECT_EQ(fake.executed().back(), "G0X0Y0");
+}
+
+TEST(GrblSession, CheckModeReportsTheFirstBadLine) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.error_at = 7;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  const Program p = parse_program(job_text(80), 6000);
+  Controls c;
+  try {
+    s.check(p, StreamMode::character_counting, c, {});
+    FAIL() << "expected GrblError";
+  } catch (const GrblError& e) {
+    EXPECT_EQ(e.code, 33);
+    EXPECT_EQ(e.line_number, static_cast<size_t>(p.source_line[7]));
+  }
+  EXPECT_EQ(s.query_status().state, "Idle");  // out of check mode again
+}
+
+TEST(GrblSession, FrameTracesTheBoundsAndWaitsForIdle) {
+  auto [host, ctl] = make_memory_pair();
+  FakeGrbl fake(*ctl, {});
+  Session s(*host, fast());
+  s.connect();
+  Controls c;
+  s.frame(Bounds{0, 0, 100, 50}, 3000, c);
+  EXPECT_EQ(fake.executed(), frame_program(Bounds{0, 0, 100, 50}, 3000).lines);
+  EXPECT_EQ(fake.state_name(), "Idle");
+}
+
+TEST(GrblSession, CommandErrorNamesTheCommand) {
+  auto [host, ctl] = make_memory_pair();
+  FakeScript script;
+  script.start_in_alarm = true;
+  FakeGrbl fake(*ctl, script);
+  Session s(*host, fast());
+  s.connect();
+  try {
+    s.command("G0X10");
+    FAIL() << "expected GrblError";
+  } catch (const GrblError& e) {
+    EXPECT_EQ(e.code, 9);
+    EXPECT_EQ(e.line_number, 0u);
+    EXPECT_STREQ(e.what(), "command 'G0X10': error:9 G-code lock: G-code commands are locked out during alarm or jog state");
+  }
+}
+
+}  // namespace
+}  // namespace atelier::grbl

@@ -1,0 +1,597 @@
+#include "tools/laser_emu/controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace atelier::laser_emu {
+namespace {
+
+enum : int {
+  kOk = 0, kBadNumberFormat = 2, kInvalidStatement = 3, kSettingDisabled = 5, kIdleError = 8,
+  kSystemGcLock = 9, kOverflow = 11, kUnsupportedCommand = 20,
+};
+constexpr int kAlarmHardLimit = 1, kAlarmSoftLimit = 2, kAlarmAbortCycle = 3;
+constexpr int kWcoRefreshBusy = 30, kWcoRefreshIdle = 10, kOvrRefreshBusy = 20, kOvrRefreshIdle = 10;
+constexpr double kMmPerInch = 25.4;
+
+std::string axis_values(const Vec3& v, bool inches) {
+  char buf[96];
+  if (inches)
+    std::snprintf(buf, sizeof buf, "%.4f,%.4f,%.4f", v[0] / kMmPerInch, v[1] / kMmPerInch, v[2] / kMmPerInch);
+  else
+    std::snprintf(buf, sizeof buf, "%.3f,%.3f,%.3f", v[0], v[1], v[2]);
+  return buf;
+}
+
+}  // namespace
+
+Controller::Controller(ControllerOptions options, Record& record, int64_t now_us)
+    : opt_(options),
+      record_(record),
+      settings_(options.work_w_mm, options.work_h_mm),
+      motion_(settings_, options.time_scale, record, options.epoch_at_zero_s),
+      now_(now_us * 1000),
+      byte_ns_(1e9 * 10.0 / options.baud),
+      lines_received_(options.lines_before),
+      last_acked_line_(options.lines_before) {
+  record_.work_w_mm = options.work_w_mm;
+  record_.work_h_mm = options.work_h_mm;
+  motion_.advance(now_);
+  tx_head_ns_ = static_cast<double>(now_);
+  reinitialise();
+}
+
+// ---------------------------------------------------------------- serial side
+
+void Controller::host_write(std::string_view bytes, int64_t now_us) {
+  const double now = static_cast<double>(std::max(now_, now_us * 1000));
+  for (const char c : bytes) {
+    last_arrival_ns_ = std::max(now, last_arrival_ns_ + byte_ns_);
+    incoming_.emplace_back(static_cast<int64_t>(std::ceil(last_arrival_ns_)), static_cast<uint8_t>(c));
+  }
+}
+
+void Controller::receive_byte(uint8_t c) {
+  if (halted_) return;
+  switch (c) {
+    case '?':
+      if (!critical_) emit(status_report());
+      return;
+    case '!': feed_hold(); return;
+    case '~': cycle_start(); return;
+    case 0x18: soft_reset(); return;
+    default: break;
+  }
+  if (c >= 0x80) return;  // extended real-time commands: not emulated, never buffered
+  if (static_cast<int>(rx_.size()) >= kRxBufferSize - 1) {
+    if (!critical_) {
+      ++record_.rx_overflows;
+      const long line = isr_lines_ + 1;
+      if (line != last_overflow_line_) record_.add_event(epoch(now_), "overflow", std::nullopt, line);
+      else ++record_.version;
+      last_overflow_line_ = line;
+    }
+  } else {
+    rx_.push_back(c);
+    if (static_cast<int>(rx_.size()) > record_.max_rx_bytes) {
+      record_.max_rx_bytes = static_cast<int>(rx_.size());
+      ++record_.version;
+    }
+  }
+  if (c == '\n' || c == '\r') ++isr_lines_;
+}
+
+void Controller::emit(std::string_view text) {
+  if (tx_.empty()) tx_head_ns_ = std::max(static_cast<double>(now_), last_tx_ns_) + byte_ns_;
+  tx_.append(text);
+}
+
+size_t Controller::tx_backlog() const {
+  if (tx_.empty()) return 0;
+  const double sent = std::floor((static_cast<double>(now_) - tx_head_ns_) / byte_ns_) + 1;
+  return tx_.size() - static_cast<size_t>(std::clamp(sent, 0.0, static_cast<double>(tx_.size())));
+}
+
+std::string Controller::take_output() {
+  const size_t n = tx_.size() - tx_backlog();
+  std::string out = tx_.substr(0, n);
+  tx_.erase(0, n);
+  if (n > 0) {
+    last_tx_ns_ = tx_head_ns_ + static_cast<double>(n - 1) * byte_ns_;
+    tx_head_ns_ += static_cast<double>(n) * byte_ns_;
+  }
+  return out;
+}
+
+std::optional<int64_t> Controller::next_event_us() const {
+  int64_t next = std::numeric_limits<int64_t>::max();
+  if (!incoming_.empty()) next = std::min(next, incoming_.front().first);
+  if (auto m = motion_.next_event()) next = std::min(next, *m);
+  if (dwell_until_) next = std::min(next, *dwell_until_);
+  if (!tx_.empty()) next = std::min(next, static_cast<int64_t>(std::ceil(tx_head_ns_)));
+  if (next == std::numeric_limits<int64_t>::max()) return std::nullopt;
+  return (std::max(next, now_) + 999) / 1000;
+}
+
+// ---------------------------------------------------------------- clock
+
+void Controller::advance_motion(int64_t t) {
+  const bool was_running = motion_.running(), was_decel = motion_.decelerating();
+  motion_.advance(t);
+  now_ = std::max(now_, t);
+  if (!was_running || motion_.running()) return;
+  if (was_decel) {  // feed hold complete
+    if (soft_limit_stop_) {
+      soft_limit_stop_ = false;
+      state_ = MachineState::idle;
+      raise_alarm(kAlarmSoftLimit);
+    } else {
+      hold_complete_ = true;
+      motion_.set_hold_beam_off(now_, true);  // DISABLE_LASER_DURING_HOLD
+    }
+  } else if (state_ == MachineState::run) {
+    state_ = MachineState::idle;  // cycle stop: the planner ran dry
+  }
+}
+
+void Controller::advance_to(int64_t now_us) {
+  const int64_t target = now_us * 1000;
+  for (;;) {
+    int64_t next = std::numeric_limits<int64_t>::max();
+    if (!incoming_.empty()) next = std::min(next, incoming_.front().first);
+    if (auto m = motion_.next_event()) next = std::min(next, *m);
+    // Wake-ups for the main loop count only while in the future: once due, run_main() below
+    // has seen them (it may still be blocked for another reason, e.g. a feed hold).
+    if (dwell_until_ && *dwell_until_ > now_) next = std::min(next, *dwell_until_);
+    if (tx_blocked_ && tx_.size() > static_cast<size_t>(kTxBufferSize)) {
+      const auto unblock = static_cast<int64_t>(
+          std::ceil(tx_head_ns_ + static_cast<double>(tx_.size() - kTxBufferSize - 1) * byte_ns_));
+      if (unblock > now_) next = std::min(next, unblock);
+    }
+    if (next > target) break;
+    advance_motion(std::max(next, now_));
+    while (!incoming_.empty() && incoming_.front().first <= now_) {
+      const uint8_t c = incoming_.front().second;
+      incoming_.pop_front();
+      receive_byte(c);
+    }
+    run_main();
+  }
+  advance_motion(std::max(target, now_));
+  run_main();
+}
+
+// ---------------------------------------------------------------- main loop
+
+void Controller::run_main() {
+  for (;;) {
+    if (halted_ || critical_ || state_ == MachineState::hold || soft_limit_stop_) return;
+    tx_blocked_ = tx_backlog() > static_cast<size_t>(kTxBufferSize);
+    if (tx_blocked_) return;
+    if (line_active_) {
+      if (!run_actions()) return;
+      line_active_ = false;
+      respond(kOk);
+      continue;
+    }
+    if (rx_.empty()) {
+      auto_cycle_start();
+      return;
+    }
+    const uint8_t c = rx_.front();
+    rx_.pop_front();
+    take_char(c);
+  }
+}
+
+void Controller::take_char(uint8_t c) {
+  if (c == '\n' || c == '\r') {
+    process_line();
+    line_.clear();
+    comment_paren_ = comment_semi_ = line_overflow_ = false;
+    return;
+  }
+  if (comment_paren_ || comment_semi_ || line_overflow_) {
+    if (c == ')' && comment_paren_) comment_paren_ = false;
+    return;
+  }
+  if (c <= ' ' || c == '/') return;  // whitespace, control characters; block delete unsupported
+  if (c == '(') {
+    comment_paren_ = true;
+  } else if (c == ';') {
+    comment_semi_ = true;
+  } else if (static_cast<int>(line_.size()) >= kLineBufferSize - 1) {
+    line_overflow_ = true;
+  } else if (c >= 'a' && c <= 'z') {
+    line_.push_back(static_cast<char>(c - 'a' + 'A'));
+  } else {
+    line_.push_back(static_cast<char>(c));
+  }
+}
+
+void Controller::process_line() {
+  ++lines_received_;
+  ++record_.lines_received;
+  ++record_.version;
+  if (opt_.alarm_at_line && lines_received_ == *opt_.alarm_at_line) {
+    raise_alarm(opt_.alarm_code);
+    return;
+  }
+  if (line_overflow_) return respond(kOverflow);
+  if (line_.empty()) return respond(kOk);
+  if (line_[0] == '$') return respond(system_command(line_));
+  if (state_ == MachineState::alarm) return respond(kSystemGcLock);
+  LineResult r = execute_gcode_line(line_, gc_, settings_);
+  if (r.status != kOk) return respond(r.status);
+  actions_.assign(r.actions.begin(), r.actions.end());
+  action_checked_ = false;
+  line_active_ = true;
+}
+
+void Controller::respond(int status) {
+  ++lines_acked_;
+  last_acked_line_ = lines_received_;  // lines run one at a time: the answer is for the last one taken
+  if (status == kOk) {
+    emit("ok\r\n");
+  } else {
+    emit("error:" + std::to_string(status) + "\r\n");
+    ++record_.errors;
+    record_.add_event(epoch(now_), "error", status, lines_received_);
+  }
+  if (opt_.halt_after_line && last_acked_line_ >= *opt_.halt_after_line) halted_ = true;
+  if (reset_after_response_) {
+    reset_after_response_ = false;
+    soft_reset();
+  }
+}
+
+void Controller::auto_cycle_start() {
+  if (state_ == MachineState::idle && motion_.blocks() > 0 && !motion_.running()) {
+    motion_.start(now_);
+    state_ = MachineState::run;
+  }
+}
+
+bool Controller::wait_sync() {
+  if (state_ == MachineState::check) return true;
+  if (motion_.blocks() == 0 && !motion_.running()) return true;
+  auto_cycle_start();
+  return false;
+}
+
+bool Controller::run_actions() {
+  const bool check = state_ == MachineState::check;
+  while (!actions_.empty()) {
+    Action& a = actions_.front();
+    switch (a.kind) {
+      case Action::Kind::line: {
+        if (!action_checked_) {
+          action_checked_ = true;
+          if (settings_.soft_limits() && outside_limits(a.target)) {
+            // limits_soft_check(): a controlled stop if moving, then the critical alarm. The
+            // line is never answered.
+            actions_.clear();
+            line_active_ = false;
+            if (motion_.running()) {
+              soft_limit_stop_ = true;
+              state_ = MachineState::hold;
+              motion_.hold(now_);
+            } else {
+              raise_alarm(kAlarmSoftLimit);
+            }
+            return false;
+          }
+        }
+        if (check) break;
+        if (motion_.full()) {
+          auto_cycle_start();
+          return false;
+        }
+        if (!motion_.push(a.target, a.feed, a.rapid, a.inverse_time, a.spindle, a.s) &&
+            settings_.laser_mode() && a.spindle == Spindle::cw) {
+          // An empty block in M3 still syncs the laser to the block's power (mc_line()).
+          a.kind = Action::Kind::spindle;
+          action_checked_ = false;
+          continue;
+        }
+        auto_cycle_start();
+        break;
+      }
+      case Action::Kind::sync:
+        if (!wait_sync()) return false;
+        break;
+      case Action::Kind::spindle:
+        if (check) break;
+        if (!wait_sync()) return false;
+        motion_.set_spindle(now_, a.spindle, a.s);
+        break;
+      case Action::Kind::dwell:
+        if (check) break;
+        if (!wait_sync()) return false;
+        if (!dwell_until_) dwell_until_ = now_ + static_cast<int64_t>(a.seconds * opt_.time_scale * 1e9);
+        if (now_ < *dwell_until_) return false;
+        dwell_until_.reset();
+        break;
+      case Action::Kind::wco_change:
+        if (!wait_sync()) return false;
+        wco_counter_ = 0;
+        break;
+      case Action::Kind::program_end:
+        if (!wait_sync()) return false;
+        if (!check) motion_.set_spindle(now_, Spindle::off, 0);
+        emit("[MSG:Pgm End]\r\n");
+        break;
+      case Action::Kind::pause:
+        if (check) break;
+        if (!wait_sync()) return false;
+        actions_.pop_front();
+        action_checked_ = false;
+        feed_hold();
+        return false;  // the "ok" follows the resume
+    }
+    actions_.pop_front();
+    action_checked_ = false;
+  }
+  return true;
+}
+
+bool Controller::outside_limits(const Vec3& t) const {
+  // system_check_travel_limits() with HOMING_FORCE_SET_ORIGIN: axes homing towards + ($23
+  // bit set) live in 0..max travel, the others in -max travel..0.
+  const int dir_mask = static_cast<int>(settings_.get(23));
+  for (int i = 0; i < 3; ++i) {
+    const double travel = settings_.max_travel(i);
+    if (dir_mask & (1 << i)) {
+      if (t[i] < 0 || t[i] > travel) return true;
+    } else if (t[i] > 0 || t[i] < -travel) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------- $ commands
+
+int Controller::system_command(const std::string& line) {
+  const bool idle_or_alarm = state_ == MachineState::idle || state_ == MachineState::alarm;
+  if (line.size() == 1) {
+    emit("[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]\r\n");
+    return kOk;
+  }
+  const char c1 = line[1];
+  if (c1 == 'J') {  // jogging is not emulated
+    if (state_ != MachineState::idle) return kIdleError;
+    if (line.size() < 3 || line[2] != '=') return kInvalidStatement;
+    return kUnsupportedCommand;
+  }
+  if (c1 == '$' || c1 == 'G' || c1 == 'C' || c1 == 'X') {
+    if (line.size() != 2) return kInvalidStatement;
+    switch (c1) {
+      case '$':
+        if (state_ == MachineState::run || state_ == MachineState::hold) return kIdleError;
+        emit(settings_.listing());
+        return kOk;
+      case 'G': emit(gc_.modes_report() + "\r\n"); return kOk;
+      case 'C':
+        if (state_ == MachineState::check) {
+          emit("[MSG:Disabled]\r\n");
+          reset_after_response_ = true;  // mc_reset(): the banner follows the ok
+        } else {
+          if (state_ != MachineState::idle) return kIdleError;
+          state_ = MachineState::check;
+          emit("[MSG:Enabled]\r\n");
+        }
+        return kOk;
+      case 'X':
+        if (state_ == MachineState::alarm) {
+          emit("[MSG:Caution: Unlocked]\r\n");
+          state_ = MachineState::idle;
+        }
+        return kOk;
+    }
+  }
+  if (!idle_or_alarm) return kIdleError;
+  switch (c1) {
+    case '#':
+      if (line.size() != 2) return kInvalidStatement;
+      for (int i = 54; i <= 59; ++i) emit("[G" + std::to_string(i) + ":0.000,0.000,0.000]\r\n");
+      emit("[G28:0.000,0.000,0.000]\r\n[G30:0.000,0.000,0.000]\r\n");
+      emit("[G92:" + axis_values(gc_.g92, false) + "]\r\n[TLO:0.000]\r\n[PRB:0.000,0.000,0.000:0]\r\n");
+      return kOk;
+    case 'H':
+      if (!settings_.homing()) return kSettingDisabled;
+      if (line.size() != 2) return kInvalidStatement;  // single-axis homing is not in 1.1h defaults
+      // Homing is instant here: the head is at the origin (HOMING_FORCE_SET_ORIGIN).
+      motion_.stop(now_);
+      motion_.set_position(Vec3{});
+      gc_.position = Vec3{};
+      state_ = MachineState::idle;
+      return kOk;
+    case 'S':
+      return kInvalidStatement;  // $SLP (sleep) is not emulated
+    case 'I':
+      if (line.size() == 2) {
+        emit("[VER:1.1h.20190825:" + build_info_ + "]\r\n[OPT:V,15,128]\r\n");
+      } else {
+        if (line[2] != '=') return kInvalidStatement;
+        build_info_ = line.substr(3);
+      }
+      return kOk;
+    case 'R':
+      if (line.size() != 6 || line.compare(0, 5, "$RST=") != 0) return kInvalidStatement;
+      if (line[5] != '$' && line[5] != '#' && line[5] != '*') return kInvalidStatement;
+      if (line[5] != '#') settings_.restore_defaults();
+      if (line[5] != '$') gc_.g92 = Vec3{};
+      emit("[MSG:Restoring defaults]\r\n");
+      reset_after_response_ = true;
+      return kOk;
+    case 'N':
+      if (line.size() == 2) {
+        emit("$N0=" + startup_lines_[0] + "\r\n$N1=" + startup_lines_[1] + "\r\n");
+        return kOk;
+      }
+      if (state_ != MachineState::idle) return kIdleError;
+      if (line.size() >= 4 && (line[2] == '0' || line[2] == '1') && line[3] == '=') {
+        // Stored and listed; not run after resets (the emulator has no startup blocks).
+        startup_lines_[line[2] - '0'] = line.substr(4);
+        return kOk;
+      }
+      return kInvalidStatement;
+    default: break;
+  }
+  size_t pos = 1;
+  double param = 0, value = 0;
+  if (!read_grbl_float(line, pos, param)) return kBadNumberFormat;
+  if (pos >= line.size() || line[pos++] != '=') return kInvalidStatement;
+  if (!read_grbl_float(line, pos, value)) return kBadNumberFormat;
+  if (pos != line.size() || param > 255) return kInvalidStatement;
+  return settings_.store(param, value);
+}
+
+// ---------------------------------------------------------------- real-time and states
+
+void Controller::feed_hold() {
+  if (critical_ || state_ == MachineState::alarm || state_ == MachineState::check) return;
+  if (state_ == MachineState::run) {
+    record_.add_event(epoch(now_), "hold");
+    state_ = MachineState::hold;
+    hold_complete_ = false;
+    motion_.hold(now_);
+  } else if (state_ == MachineState::idle) {
+    record_.add_event(epoch(now_), "hold");
+    state_ = MachineState::hold;
+    hold_complete_ = true;
+    motion_.set_hold_beam_off(now_, true);
+  }
+}
+
+void Controller::cycle_start() {
+  if (critical_) return;
+  if (state_ == MachineState::hold && hold_complete_ && !soft_limit_stop_) {
+    record_.add_event(epoch(now_), "resume");
+    hold_complete_ = false;
+    motion_.set_hold_beam_off(now_, false);
+    state_ = MachineState::idle;
+    auto_cycle_start();
+  } else if (state_ == MachineState::idle) {
+    auto_cycle_start();
+  }
+}
+
+void Controller::raise_alarm(int code) {
+  motion_.stop(now_);  // mc_reset(): steppers killed, laser off
+  record_.add_event(epoch(now_), "alarm", code);
+  state_ = MachineState::alarm;
+  actions_.clear();
+  line_active_ = false;
+  dwell_until_.reset();
+  soft_limit_stop_ = false;
+  emit("ALARM:" + std::to_string(code) + "\r\n");
+  if (code == kAlarmHardLimit || code == kAlarmSoftLimit) {
+    critical_ = true;
+    emit("[MSG:Reset to continue]\r\n");
+  } else {
+    reinitialise();  // the reset mc_reset() asked for
+  }
+}
+
+void Controller::soft_reset() {
+  record_.add_event(epoch(now_), "reset");
+  if (critical_) {
+    critical_ = false;
+  } else if (motion_.running()) {  // Run or Hold:1: position lost
+    motion_.stop(now_);
+    record_.add_event(epoch(now_), "alarm", kAlarmAbortCycle);
+    emit("ALARM:" + std::to_string(kAlarmAbortCycle) + "\r\n");
+    state_ = MachineState::alarm;
+  }
+  motion_.stop(now_);
+  reinitialise();
+}
+
+void Controller::reinitialise() {
+  rx_.clear();
+  line_.clear();
+  comment_paren_ = comment_semi_ = line_overflow_ = false;
+  actions_.clear();
+  line_active_ = false;
+  action_checked_ = false;
+  dwell_until_.reset();
+  reset_after_response_ = false;
+  hold_complete_ = false;
+  soft_limit_stop_ = false;
+  wco_counter_ = ovr_counter_ = 0;
+  gc_ = GcState{};
+  gc_.position = motion_.position();
+  emit(kBanner);
+  if (state_ == MachineState::alarm) emit("[MSG:'$H'|'$X' to unlock]\r\n");
+  else state_ = MachineState::idle;
+}
+
+std::string Controller::state_name() const {
+  switch (state_) {
+    case MachineState::idle: return "Idle";
+    case MachineState::run: return "Run";
+    case MachineState::hold: return hold_complete_ ? "Hold:0" : "Hold:1";
+    case MachineState::alarm: return "Alarm";
+    case MachineState::check: return "Check";
+  }
+  return "Idle";
+}
+
+std::string Controller::status_report() {
+  const int mask = settings_.status_mask();
+  const bool inches = settings_.get(13) != 0;
+  const bool busy = state_ == MachineState::run || state_ == MachineState::hold;
+  Vec3 pos = motion_.position();
+  const Vec3 wco = gc_.g92;  // G54..G59 offsets are all zero here
+  std::string r = "<" + state_name();
+  if (mask & 1) {
+    r += "|MPos:";
+  } else {
+    for (int i = 0; i < 3; ++i) pos[i] -= wco[i];
+    r += "|WPos:";
+  }
+  r += axis_values(pos, inches);
+  if (mask & 2)
+    r += "|Bf:" + std::to_string(Motion::kPlannerBlocks - motion_.blocks()) + "," +
+         std::to_string(kRxBufferSize - 1 - static_cast<int>(rx_.size()));
+  char fs[64];
+  const double feed = motion_.speed_mm_min();
+  std::snprintf(fs, sizeof fs, "|FS:%.*f,%.0f", inches ? 1 : 0, inches ? feed / kMmPerInch : feed, motion_.laser_s());
+  r += fs;
+  if (wco_counter_ > 0) {
+    --wco_counter_;
+  } else {
+    wco_counter_ = (busy ? kWcoRefreshBusy : kWcoRefreshIdle) - 1;
+    if (ovr_counter_ == 0) ovr_counter_ = 1;  // overrides in the next report
+    r += "|WCO:" + axis_values(wco, inches);
+  }
+  if (ovr_counter_ > 0) {
+    --ovr_counter_;
+  } else {
+    ovr_counter_ = (busy ? kOvrRefreshBusy : kOvrRefreshIdle) - 1;
+    r += "|Ov:100,100,100";
+    const Spindle on = motion_.laser_spindle();
+    if (on == Spindle::cw) r += "|A:S";
+    else if (on == Spindle::ccw) r += "|A:C";
+  }
+  return r + ">\r\n";
+}
+
+// ---------------------------------------------------------------- record
+
+Record Controller::snapshot() const {
+  Record r = record_;
+  if (auto s = motion_.open_segment(now_)) r.segments.push_back(*s);
+  return r;
+}
+
+void Controller::power_off() {
+  motion_.stop(now_);
+  state_ = MachineState::idle;
+}
+
+}  // namespace atelier::laser_emu

@@ -1,0 +1,183 @@
+// A pure model of a GRBL 1.1h laser controller (laser mode $32=1, S max $30=1000): bytes in,
+// bytes out, on a clock the caller drives. No I/O, no real time: tests run it in virtual time.
+//
+// Serial line (serial.c): bytes written by the host arrive one per byte time (10 bits at the
+// baud rate: 86.8 us at 115200): arrival = max(write time, previous arrival + byte time).
+// Real-time bytes (? ! ~ 0x18 and >= 0x80) are acted on at arrival and never enter the receive
+// buffer; the rest go into a 128-byte ring buffer (127 usable). A byte arriving when it is full
+// is dropped and counted in the Record as an overflow (one event per line hit) - except
+// during a critical alarm, when GRBL reads nothing and the job is already lost. Replies leave at
+// the same byte rate; the main loop stalls while more than 104 bytes (TX_BUFFER_SIZE) wait.
+// Bytes >= 0x80 (overrides, safety door, jog cancel) are not emulated and are ignored.
+//
+// Main loop (protocol.c): takes bytes from the receive buffer into a line (80-byte line
+// buffer: 79 characters after dropping spaces, control characters and comments, else error:11),
+// upper-cases it and executes it: "$" system commands, else G-code (error:9 in Alarm). Every
+// line gets exactly one "ok"/"error:N" (CR and LF both end a line, so "\r\n" gets two), sent
+// once the line is executed: motion lines when queued in the 15-block planner. While the
+// planner is full, during buffer syncs (spindle changes, dwells, M2/M30, G92), feed holds and
+// critical alarms the main loop takes nothing from the receive buffer.
+// States: Idle, Run, Hold:1 (decelerating) / Hold:0 (stopped, ready to resume), Alarm, Check.
+//
+// Real-time commands: "?" status report "<Idle|MPos:0.000,0.000,0.000|FS:0,0>" (WPos when $10
+// bit 0 is clear; "|Bf:blocks,bytes" free space when $10 has value 2 set; "|WCO:" every 10th
+// (30th when busy) report and "|Ov:100,100,100" plus "|A:S"/"|A:C" when the beam is on, on the
+// counters GRBL uses); "!" feed hold (from Run or Idle); "~" resume (only from Hold:0);
+// 0x18 soft reset: in motion (Run, Hold:1) ALARM:3 first; flushes both buffers and the
+// planner, resets the parser's modes, prints the banner, and stays in Alarm (printing
+// "[MSG:'$H'|'$X' to unlock]") if it was in an alarm. A reset at Hold:0 keeps the position and
+// gives Idle: GRBL's way to abort without losing position.
+// Alarms: soft limits ($20=1; machine space 0..$130 x 0..$131): a target outside raises
+// ALARM:2 when the line is executed (queued) - after a controlled feed hold if moving - with
+// "[MSG:Reset to continue]"; that line gets no answer and, as in GRBL's critical-event loop,
+// nothing else is answered (not even "?") until 0x18. ALARM:1 (hard limit; also
+// ControllerOptions::alarm_at_line) is the same but stops the head dead. Other alarm codes
+// injected by alarm_at_line print ALARM:N, then reset like ALARM:3.
+//
+// Units: the public clock is microseconds (steady, any origin, never decreasing); inside,
+// nanoseconds. Positions mm. Threading: one Controller is used from one thread; the Record
+// passed in is written from the same thread and must outlive the Controller.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "tools/laser_emu/gcode.h"
+#include "tools/laser_emu/motion.h"
+#include "tools/laser_emu/record.h"
+#include "tools/laser_emu/settings.h"
+
+namespace atelier::laser_emu {
+
+struct ControllerOptions {
+  double work_w_mm = 400, work_h_mm = 400;  // $130, $131
+  double time_scale = 1.0;                  // motion and dwell durations are multiplied by it
+  int baud = 115200;
+  // Lines are numbered from lines_before + 1 (the emulator numbers them over its whole life,
+  // across replugs): every line the main loop takes counts, G-code, $ commands, empty lines.
+  long lines_before = 0;
+  // Fault: raise ALARM:alarm_code when the main loop takes line N. That line is not executed
+  // or answered.
+  std::optional<long> alarm_at_line;
+  int alarm_code = 1;
+  // Fault: once line N is answered the controller stops reading the serial line and answering
+  // (every byte, real-time ones too, is ignored); motion already planned runs on. The program
+  // uses it for a stalled link and for the moment before it pulls the cable.
+  std::optional<long> halt_after_line;
+  double epoch_at_zero_s = 0;  // unix time (s) of clock value 0, for the record's times
+};
+
+enum class MachineState { idle, run, hold, alarm, check };
+
+class Controller {
+ public:
+  static constexpr int kRxBufferSize = 128;   // RX_BUFFER_SIZE; one slot always free
+  static constexpr int kTxBufferSize = 104;   // TX_BUFFER_SIZE
+  static constexpr int kLineBufferSize = 80;  // LINE_BUFFER_SIZE, terminator included
+  static constexpr const char* kBanner = "\r\nGrbl 1.1h ['$' for help]\r\n";
+
+  // Power-on at `now_us`: the banner is the first output.
+  Controller(ControllerOptions options, Record& record, int64_t now_us);
+
+  // The host wrote `bytes` at `now_us` (>= the last call's time). They arrive at the serial
+  // byte rate, after any earlier bytes still on the wire; advance_to() delivers them.
+  void host_write(std::string_view bytes, int64_t now_us);
+  // Runs everything due up to `now_us`: byte arrivals, the main loop, motion, dwells.
+  void advance_to(int64_t now_us);
+  // Output bytes whose transmission has completed by now, in order; removed from the queue.
+  std::string take_output();
+  // When something will next happen on its own (arrival, motion event, dwell end, or an output
+  // byte completing), so an event loop knows how long it may sleep.
+  std::optional<int64_t> next_event_us() const;
+
+  int64_t now_us() const { return now_ / 1000; }
+  MachineState state() const { return state_; }
+  bool hold_complete() const { return hold_complete_; }
+  bool critical_alarm() const { return critical_; }
+  bool halted() const { return halted_; }  // halt_after_line reached
+  std::string state_name() const;  // as in status reports: "Idle", "Hold:1", ...
+  Vec3 position() const { return motion_.position(); }
+  int rx_used() const { return static_cast<int>(rx_.size()); }
+  int planner_blocks() const { return motion_.blocks(); }
+  long lines_received() const { return lines_received_; }      // number of the last line taken
+  long lines_acknowledged() const { return lines_acked_; }      // ok/error answers sent (count)
+  long last_acknowledged_line() const { return last_acked_line_; }  // number of the last line answered
+  bool output_pending() const { return !tx_.empty(); }
+  double laser_s() const { return motion_.laser_s(); }  // S applied now; 0 = beam off
+  const Settings& settings() const { return settings_; }
+  const GcState& gcode_state() const { return gc_; }
+
+  // The record so far, with the piece under way closed at now.
+  Record snapshot() const;
+  // The board loses power (cable pulled): the head stops dead and the beam goes off now.
+  void power_off();
+
+ private:
+  // Serial side.
+  void receive_byte(uint8_t c);  // the "ISR"
+  void emit(std::string_view text);
+  size_t tx_backlog() const;     // bytes not yet transmitted at now_
+  // Main loop.
+  void run_main();
+  void take_char(uint8_t c);
+  void process_line();
+  bool run_actions();  // false while blocked
+  bool wait_sync();    // protocol_buffer_synchronize(): true once the planner is empty and stopped
+  void respond(int status);
+  int system_command(const std::string& line);
+  void auto_cycle_start();
+  // Motion and states.
+  void advance_motion(int64_t t);
+  void feed_hold();
+  void cycle_start();
+  void soft_reset();
+  void raise_alarm(int code);
+  bool outside_limits(const Vec3& target) const;
+  void reinitialise();  // what GRBL's main() does after every reset
+  std::string status_report();
+  double epoch(int64_t t) const { return opt_.epoch_at_zero_s + static_cast<double>(t) * 1e-9; }
+
+  ControllerOptions opt_;
+  Record& record_;
+  Settings settings_;
+  Motion motion_;
+  GcState gc_;
+  int64_t now_ = 0;         // ns
+  double byte_ns_ = 0;
+
+  std::deque<std::pair<int64_t, uint8_t>> incoming_;  // (arrival ns, byte) still on the wire
+  double last_arrival_ns_ = -1e18;
+  std::deque<uint8_t> rx_;
+  long isr_lines_ = 0;              // line ends seen by the ISR, for overflow line numbers
+  long last_overflow_line_ = 0;
+
+  std::string tx_;                  // not yet transmitted
+  double tx_head_ns_ = 0;           // when tx_[0] completes
+  double last_tx_ns_ = -1e18;       // when the last taken byte completed
+  bool tx_blocked_ = false;
+
+  std::string line_;
+  bool comment_paren_ = false, comment_semi_ = false, line_overflow_ = false;
+  bool line_active_ = false;        // executing a G-code line's actions
+  std::deque<Action> actions_;
+  bool action_checked_ = false;     // soft limits checked for actions_.front()
+  std::optional<int64_t> dwell_until_;
+  bool reset_after_response_ = false;
+  long lines_received_ = 0, last_acked_line_ = 0, lines_acked_ = 0;
+
+  MachineState state_ = MachineState::idle;
+  bool hold_complete_ = false;
+  bool critical_ = false;
+  bool halted_ = false;
+  bool soft_limit_stop_ = false;    // decelerating before ALARM:2
+  int wco_counter_ = 0, ovr_counter_ = 0;
+  std::string build_info_;
+  std::string startup_lines_[2];
+};
+
+}  // namespace atelier::laser_emu

@@ -1,0 +1,84 @@
+// The G-code parser of the laser emulator: GRBL 1.1h's gc_execute_line() for the subset a
+// laser uses, with GRBL's error codes and laser-mode spindle rules. Pure: it turns one
+// pre-filtered line (upper case, no spaces or comments, as protocol.c hands it over) into
+// the parser's new modal state plus a list of actions for the controller to run in order
+// (planner blocks, buffer syncs, spindle changes, dwells, program end).
+//
+// Supported: G0 G1 G2 G3 (arcs cut into chords as mc_arc() does, $12 tolerance) G4 G17 G18 G19
+// G20 G21 G40 G53 G54..G59 (all offsets zero) G61 G80 G90 G91 G91.1 G92 G92.1 G93 G94, M0 M1 M2
+// M30 M3 M4 M5 M7 M8 M9, F S T N X Y Z I J K R P. Not emulated, answered error:20: G10 G28 G30
+// G38.x G43.1 G49 (GRBL supports them; a laser job does not use them).
+// Errors (GRBL numbering): 1 expected letter, 2 bad number, 4 negative value, 20 unsupported,
+// 21 modal group violation, 22 feed rate not set, 23 non-integer G/M, 24 axis command conflict,
+// 25 word repeated, 26 no axis words, 27 line number too big, 28 value word (P) missing,
+// 30 G53 without G0/G1, 31 axis words with G80, 32 no axis words in plane, 33 invalid target,
+// 34 arc radius error, 35 no offsets in plane, 36 unused words, 38 tool number > 255.
+// Units: mm and mm/min inside (G20 input is converted), seconds for dwells.
+// Not thread-safe (plain functions over value types).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "tools/laser_emu/settings.h"
+
+namespace atelier::laser_emu {
+
+using Vec3 = std::array<double, 3>;  // X, Y, Z in mm
+
+enum class Spindle { off = 5, cw = 3, ccw = 4 };  // M5, M3 (constant power), M4 (dynamic)
+
+// gc_state: what "$G" reports, plus the parser's idea of the position (the end of the last
+// queued motion, machine coordinates).
+struct GcState {
+  int motion = 0;  // 0, 1, 2, 3 or 80
+  int plane = 0;   // 0 = G17 (XY), 1 = G18 (ZX), 2 = G19 (YZ)
+  bool inches = false;
+  bool incremental = false;
+  bool inverse_time = false;  // G93
+  int coord_select = 0;       // 0..5 = G54..G59
+  Spindle spindle = Spindle::off;
+  bool mist = false, flood = false;
+  int tool = 0;
+  double feed = 0;  // mm/min (G93: 1/min of the last block)
+  double s = 0;     // programmed spindle speed / laser power
+  Vec3 position{};  // machine mm
+  Vec3 g92{};       // G92 offset, mm
+
+  std::string modes_report() const;  // "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]"
+};
+
+struct Action {
+  enum class Kind {
+    line,          // queue a planner block (after GRBL's soft-limit check)
+    sync,          // wait until the planner is empty and motion has stopped
+    spindle,       // sync, then set the laser output to (spindle, s)
+    dwell,         // sync, then wait `seconds`
+    wco_change,    // sync, then report WCO in the next status report (G92, G54..)
+    program_end,   // M2/M30: sync, laser off, "[MSG:Pgm End]"
+    pause,         // M0: sync, then feed hold
+  };
+  Kind kind = Kind::sync;
+  Vec3 target{};          // line: machine mm
+  double feed = 0;        // line: mm/min (for inverse_time: 1/min, the block's duration is 1/feed)
+  bool rapid = false;     // line: G0
+  bool inverse_time = false;
+  Spindle spindle = Spindle::off;  // line, spindle
+  double s = 0;           // line: laser power for this block (0 for G0: laser disabled); spindle
+  double seconds = 0;     // dwell
+};
+
+struct LineResult {
+  int status = 0;  // 0 = ok, else GRBL error code
+  std::vector<Action> actions;
+};
+
+// Parses and "executes" one line: on success `state` is updated and the actions are returned;
+// on error `state` is unchanged and no action is returned (GRBL rejects the whole line).
+LineResult execute_gcode_line(const std::string& line, GcState& state, const Settings& settings);
+
+// GRBL's read_float(): optional sign, digits, at most one '.', no exponent. Advances `pos`.
+bool read_grbl_float(const std::string& line, size_t& pos, double& value);
+
+}  // namespace atelier::laser_emu

@@ -1,0 +1,277 @@
+#include "tools/laser_emu/motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace atelier::laser_emu {
+namespace {
+
+constexpr double kMinimumFeedRate = 1.0;  // mm/min, GRBL's MINIMUM_FEED_RATE
+
+double distance(const Vec3& a, const Vec3& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+}  // namespace
+
+Motion::Motion(const Settings& settings, double time_scale, Record& record, double epoch_at_zero_s)
+    : settings_(settings), time_scale_(time_scale), record_(record), epoch0_(epoch_at_zero_s) {}
+
+Vec3 Motion::planner_position() const {
+  Vec3 p;
+  for (int i = 0; i < 3; ++i) p[i] = static_cast<double>(planner_steps_[i]) / settings_.steps_per_mm(i);
+  return p;
+}
+
+bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time, Spindle spindle, double s) {
+  std::array<long, 3> steps{};
+  bool moves = false;
+  for (int i = 0; i < 3; ++i) {
+    steps[i] = std::lround(target[i] * settings_.steps_per_mm(i));
+    moves |= steps[i] != planner_steps_[i];
+  }
+  if (!moves) return false;  // PLAN_EMPTY_BLOCK
+  Block b;
+  b.start = planner_position();
+  for (int i = 0; i < 3; ++i) b.end[i] = static_cast<double>(steps[i]) / settings_.steps_per_mm(i);
+  b.length = distance(b.start, b.end);
+  // limit_value_by_axis_maximum(): the largest rate/acceleration along the move that keeps
+  // every axis within its own limit.
+  double rapid_rate = std::numeric_limits<double>::infinity();
+  double accel = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    const double u = std::fabs(b.end[i] - b.start[i]) / b.length;
+    if (u <= 0) continue;
+    rapid_rate = std::min(rapid_rate, settings_.max_rate(i) / u);
+    accel = std::min(accel, settings_.accel(i) / u);
+  }
+  double rate = rapid ? rapid_rate : (inverse_time ? feed * b.length : feed);
+  b.rate = std::max(kMinimumFeedRate, std::min(rate, rapid_rate));
+  b.accel = accel;
+  b.spindle = spindle;
+  b.s = s;
+  queue_.push_back(b);
+  planner_steps_ = steps;
+  return true;
+}
+
+Vec3 Motion::position() const {
+  if (!running_ || queue_.empty()) return head_;
+  const Block& b = queue_.front();
+  const double f = b.length > 0 ? distance_at(now_) / b.length : 1.0;
+  Vec3 p;
+  for (int i = 0; i < 3; ++i) p[i] = b.start[i] + (b.end[i] - b.start[i]) * f;
+  return p;
+}
+
+void Motion::set_position(const Vec3& mm) {
+  for (int i = 0; i < 3; ++i) {
+    planner_steps_[i] = std::lround(mm[i] * settings_.steps_per_mm(i));
+    head_[i] = static_cast<double>(planner_steps_[i]) / settings_.steps_per_mm(i);
+  }
+  piece_p0_ = head_;
+}
+
+double Motion::distance_at(int64_t t) const {
+  if (!running_ || queue_.empty()) return 0;
+  const Block& b = queue_.front();
+  const double v = b.rate / 60.0;  // mm/s
+  if (decel_) {
+    const double tau = static_cast<double>(std::min(t, stop_t_) - t0_) * 1e-9 / time_scale_;
+    return std::min(stop_d_, d0_ + v * tau - 0.5 * decel_a_ * tau * tau);
+  }
+  const double tau = static_cast<double>(t - t0_) * 1e-9 / time_scale_;
+  return std::min(b.length, d0_ + v * tau);
+}
+
+double Motion::speed_at(int64_t t) const {
+  if (!running_ || queue_.empty()) return 0;
+  const double v = queue_.front().rate / 60.0;
+  if (!decel_) return v * 60.0;
+  const double tau = static_cast<double>(std::min(t, stop_t_) - t0_) * 1e-9 / time_scale_;
+  return std::max(0.0, v - decel_a_ * tau) * 60.0;
+}
+
+Motion::Output Motion::output_at(int64_t t) const {
+  if (running_ && !queue_.empty()) {
+    const Block& b = queue_.front();
+    return Output{b.spindle, b.s, b.rate, speed_at(t)};
+  }
+  if (hold_beam_off_) return Output{};
+  return idle_;
+}
+
+double Motion::power_of(const Output& o) const {
+  if (o.spindle == Spindle::off || o.s <= 0) return 0;
+  double p = std::min(o.s, settings_.s_max()) / std::max(1e-9, settings_.s_max());
+  if (o.spindle == Spindle::ccw) p *= o.programmed_rate > 0 ? o.speed / o.programmed_rate : 0.0;  // M4
+  return std::clamp(p, 0.0, 1.0);
+}
+
+std::optional<Segment> Motion::open_segment(int64_t now) const {
+  const Vec3 p1 = position();
+  const Output start = output_at(piece_t0_), end = output_at(now);
+  // M3 power is constant over a piece; M4 follows the speed, which changes linearly (decel).
+  double power = power_of(start);
+  if (start.spindle == Spindle::ccw) power = 0.5 * (power_of(start) + power_of(end));
+  const bool moved = distance(piece_p0_, p1) > 1e-9;
+  if (!moved && (power <= 0 || now <= piece_t0_)) return std::nullopt;
+  Segment s;
+  s.t0 = epoch(piece_t0_);
+  s.t1 = epoch(now);
+  s.x0 = piece_p0_[0], s.y0 = piece_p0_[1], s.x1 = p1[0], s.y1 = p1[1];
+  s.s = start.s;
+  s.power = power;
+  s.mode = power > 0 ? (start.spindle == Spindle::cw ? "M3" : "M4") : "off";
+  s.feed = moved ? start.programmed_rate : 0.0;
+  return s;
+}
+
+void Motion::close_piece(int64_t now) {
+  now_ = std::max(now_, now);
+  if (auto s = open_segment(now_)) record_.add_segment(*s);
+}
+
+// After a state change: start the next piece and note the beam going off.
+void Motion::begin_piece(int64_t now) {
+  piece_t0_ = now;
+  piece_p0_ = position();
+  const bool on = power_of(output_at(now)) > 0;
+  if (beam_was_on_ && !on) record_.add_event(epoch(now), "beam_off");
+  beam_was_on_ = on;
+}
+
+void Motion::finish_block(int64_t t) {
+  close_piece(t);
+  const Block b = queue_.front();
+  queue_.pop_front();
+  head_ = b.end;
+  t0_ = t;
+  d0_ = 0;
+  if (queue_.empty()) {
+    running_ = false;
+    // Cycle end: M4 output follows the speed (now 0); M3 keeps the last block's power.
+    idle_ = b.spindle == Spindle::cw ? Output{b.spindle, b.s, 0, 0} : Output{b.spindle, 0, 0, 0};
+  }
+  begin_piece(t);
+}
+
+std::optional<int64_t> Motion::next_event() const {
+  if (!running_ || queue_.empty()) return std::nullopt;
+  if (decel_) return stop_t_;
+  const Block& b = queue_.front();
+  const double secs = (b.length - d0_) / (b.rate / 60.0) * time_scale_;
+  return t0_ + static_cast<int64_t>(std::ceil(secs * 1e9));
+}
+
+void Motion::advance(int64_t now) {
+  while (running_) {
+    const auto due = next_event();
+    if (!due || *due > now) break;
+    now_ = std::max(now_, *due);
+    if (decel_) {
+      // Hold complete: the rest of the block stays queued for the resume.
+      close_piece(*due);
+      Block& b = queue_.front();
+      const double f = b.length > 0 ? stop_d_ / b.length : 1.0;
+      for (int i = 0; i < 3; ++i) head_[i] = b.start[i] + (b.end[i] - b.start[i]) * f;
+      running_ = decel_ = false;
+      if (b.length - stop_d_ <= 1e-9) {
+        head_ = b.end;
+        queue_.pop_front();
+      } else {
+        b.start = head_;
+        b.length -= stop_d_;
+      }
+      d0_ = 0;
+      idle_ = Output{};  // the head stands still: M4 off; M3 is turned off by the hold itself
+      begin_piece(*due);
+    } else {
+      finish_block(*due);
+    }
+  }
+  now_ = std::max(now_, now);
+}
+
+void Motion::start(int64_t now) {
+  now_ = std::max(now_, now);
+  if (running_ || queue_.empty()) return;
+  close_piece(now_);
+  head_ = queue_.front().start;
+  running_ = true;
+  decel_ = false;
+  t0_ = now_;
+  d0_ = 0;
+  begin_piece(now_);
+}
+
+void Motion::hold(int64_t now) {
+  now_ = std::max(now_, now);
+  if (!running_ || decel_) return;
+  close_piece(now_);
+  const Block& b = queue_.front();
+  const double d = distance_at(now_), v = b.rate / 60.0, a = b.accel;
+  d0_ = d;
+  t0_ = now_;
+  decel_ = true;
+  decel_a_ = a;
+  double tau = 0;
+  if (a > 0 && std::isfinite(a)) {
+    const double stopping = v * v / (2 * a);
+    if (d + stopping <= b.length) {
+      stop_d_ = d + stopping;
+      tau = v / a;
+    } else {  // the deceleration is cut short at the block's end
+      stop_d_ = b.length;
+      const double r = b.length - d;
+      tau = (v - std::sqrt(std::max(0.0, v * v - 2 * a * r))) / a;
+    }
+  } else {
+    stop_d_ = d;
+  }
+  stop_t_ = now_ + static_cast<int64_t>(std::ceil(tau * time_scale_ * 1e9));
+  begin_piece(now_);
+}
+
+void Motion::stop(int64_t now) {
+  now_ = std::max(now_, now);
+  close_piece(now_);
+  head_ = position();  // where the head stopped, between steps as likely as not
+  running_ = decel_ = false;
+  queue_.clear();
+  for (int i = 0; i < 3; ++i) planner_steps_[i] = std::lround(head_[i] * settings_.steps_per_mm(i));
+  idle_ = Output{};
+  hold_beam_off_ = false;
+  begin_piece(now_);
+}
+
+void Motion::set_spindle(int64_t now, Spindle spindle, double s) {
+  now_ = std::max(now_, now);
+  close_piece(now_);
+  idle_ = Output{spindle, spindle == Spindle::off ? 0.0 : s, 0, 0};
+  begin_piece(now_);
+}
+
+void Motion::set_hold_beam_off(int64_t now, bool off) {
+  now_ = std::max(now_, now);
+  close_piece(now_);
+  hold_beam_off_ = off;
+  begin_piece(now_);
+}
+
+double Motion::speed_mm_min() const { return speed_at(now_); }
+
+double Motion::laser_s() const {
+  const Output o = output_at(now_);
+  const double p = power_of(o);
+  if (p <= 0) return 0;
+  return o.spindle == Spindle::ccw && o.programmed_rate > 0 ? o.s * o.speed / o.programmed_rate : o.s;
+}
+
+Spindle Motion::laser_spindle() const {
+  const Output o = output_at(now_);
+  return power_of(o) > 0 ? o.spindle : Spindle::off;
+}
+
+}  // namespace atelier::laser_emu

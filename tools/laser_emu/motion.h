@@ -1,0 +1,117 @@
+// The motion side of the laser emulator: GRBL's 16-block planner (15 usable) and a stepper
+// that moves the head through the blocks at constant speed, with the laser output it drives.
+//
+// Simplifications (documented for users of the emulator): no acceleration between blocks (each
+// block runs at its nominal speed: F, or for G0 the fastest rate $110/$111 allow along its
+// direction), except that a feed hold decelerates at the $120/$121 limit along the block
+// (capped at the block's end). Durations are multiplied by `time_scale`.
+// Laser rules (laser mode, DISABLE_LASER_DURING_HOLD as in stock 1.1h): a block's output is its
+// (M3|M4, S) with S = 0 for G0; M4 power scales with actual/programmed speed, so it is off
+// whenever the head stands still; M3 keeps its last power while stopped (set by the last block
+// or a spindle sync); a completed feed hold turns the beam off until resumed; a stop
+// (reset, alarm) turns it off.
+// Positions: machine mm; block ends are quantised to whole steps ($100..$102) as GRBL does.
+// Times: nanoseconds on the controller's steady clock. Segments and beam_off events go into
+// the Record passed in (not owned; must outlive the Motion).
+// Threading: one thread.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+
+#include "tools/laser_emu/gcode.h"
+#include "tools/laser_emu/record.h"
+#include "tools/laser_emu/settings.h"
+
+namespace atelier::laser_emu {
+
+struct Block {
+  Vec3 start{}, end{};  // mm
+  double length = 0;    // mm
+  double rate = 0;      // nominal speed, mm/min
+  double accel = 0;     // deceleration limit along the block, mm/s^2
+  Spindle spindle = Spindle::off;
+  double s = 0;         // 0: laser off for this block
+};
+
+class Motion {
+ public:
+  static constexpr int kPlannerBlocks = 15;  // BLOCK_BUFFER_SIZE 16, one slot always free
+
+  // `epoch_at_zero_s`: unix time (s) of clock value 0, for the record.
+  Motion(const Settings& settings, double time_scale, Record& record, double epoch_at_zero_s);
+
+  // Planner. plan_buffer_line(): false when the move has no steps (nothing queued).
+  bool full() const { return static_cast<int>(queue_.size()) >= kPlannerBlocks; }
+  int blocks() const { return static_cast<int>(queue_.size()); }
+  bool push(const Vec3& target, double feed, bool rapid, bool inverse_time, Spindle spindle, double s);
+  // Where the planner ends (mm, step-quantised) and where the head is now.
+  Vec3 planner_position() const;
+  Vec3 position() const;
+  void set_position(const Vec3& mm);  // G-code position sync after a reset (head must be stopped)
+
+  // Stepper. All calls take the current time; advance() must be called first.
+  void advance(int64_t now);   // runs block ends / hold completion due by `now`
+  std::optional<int64_t> next_event() const;
+  bool running() const { return running_; }   // cycle active (Run, or Hold:1 decelerating)
+  bool decelerating() const { return decel_; }
+  void start(int64_t now);     // cycle start / resume: runs the queue (no-op when empty)
+  void hold(int64_t now);      // feed hold: decelerate and stop
+  void stop(int64_t now);      // reset / alarm: stop dead, beam off, planner flushed
+  // Spindle sync from the G-code side (planner empty, head stopped): sets the output now.
+  void set_spindle(int64_t now, Spindle spindle, double s);
+  void set_hold_beam_off(int64_t now, bool off);  // spindle-stop override of a completed hold
+
+  double speed_mm_min() const;     // realtime feed for status reports
+  double laser_s() const;          // S currently applied (0 = beam off)
+  Spindle laser_spindle() const;   // which mode the beam is on in (off when not emitting)
+
+  // The piece under way as a segment ending at `now` (for snapshots); empty when none.
+  std::optional<Segment> open_segment(int64_t now) const;
+
+ private:
+  struct Output {
+    Spindle spindle = Spindle::off;
+    double s = 0;
+    double programmed_rate = 0, speed = 0;  // for M4 scaling, mm/min
+  };
+  double distance_at(int64_t t) const;    // along the current block
+  double speed_at(int64_t t) const;       // mm/min
+  Output output_at(int64_t t) const;
+  double power_of(const Output& o) const;  // 0..1
+  void close_piece(int64_t now);          // record the piece up to `now`
+  void begin_piece(int64_t now);          // after a change: next piece, beam_off event
+  void finish_block(int64_t t);
+  double epoch(int64_t t) const { return epoch0_ + static_cast<double>(t) * 1e-9; }
+
+  const Settings& settings_;
+  double time_scale_;
+  Record& record_;
+  double epoch0_;
+
+  std::deque<Block> queue_;
+  std::array<long, 3> planner_steps_{};  // end of the last queued block, in steps
+  Vec3 head_{};                          // position when stopped / at the piece start
+
+  bool running_ = false;
+  int64_t now_ = 0;
+  // Current block: distance d0 at time t0, nominal speed, optional deceleration.
+  int64_t t0_ = 0;
+  double d0_ = 0;
+  bool decel_ = false;
+  double decel_a_ = 0;     // mm/s^2
+  int64_t stop_t_ = 0;
+  double stop_d_ = 0;
+
+  Output idle_;            // laser output while no block runs
+  bool hold_beam_off_ = false;
+
+  // The piece being recorded.
+  int64_t piece_t0_ = 0;
+  Vec3 piece_p0_{};
+  bool beam_was_on_ = false;
+};
+
+}  // namespace atelier::laser_emu
