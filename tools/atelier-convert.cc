@@ -108,8 +108,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   int progress_fd = -1;
   atelier::ImageLimits limits;
-  app.add_option("KIND", kind, "kind of job (known: knit)")->required();
-  app.add_option("INPUT", input, "input image")->required();
+  app.add_option("KIND", kind, "kind of job (knit: an image; cut: an SVG)")->required();
+  app.add_option("INPUT", input, "input file")->required();
   app.add_option("OUTPUT_DIR", output_dir, "folder for the outputs (created if missing)")
       ->required();
   app.add_option("--params", params_file, "TOML file of parameters (applied first)");

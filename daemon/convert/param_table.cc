@@ -139,7 +139,14 @@ void apply_set(toml::table& target, const std::string& assignment) {
 }
 
 void merge_into(toml::table& base, const toml::table& overrides) {
-  for (const auto& [k, v] : overrides) base.insert_or_assign(k, v);
+  for (const auto& [k, v] : overrides) {
+    toml::table* inner = base[k].as_table();
+    if (inner && v.is_table()) {
+      merge_into(*inner, *v.as_table());
+    } else {
+      base.insert_or_assign(k, v);
+    }
+  }
 }
 
 }  // namespace atelier

@@ -66,7 +66,9 @@ class TableReader {
 // supported. Throws ParamError on a missing '='.
 void apply_set(toml::table& target, const std::string& assignment);
 
-// Copies every key of `overrides` into `base`, replacing existing values (one level deep).
+// Copies every key of `overrides` into `base`, replacing existing values. Tables are merged
+// key by key (a sidecar's `[laser]` with only `s_max` keeps the configured layers); arrays,
+// such as `[[laser.layer]]`, are replaced whole.
 void merge_into(toml::table& base, const toml::table& overrides);
 
 }  // namespace atelier

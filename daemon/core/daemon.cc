@@ -94,9 +94,12 @@ Daemon::Daemon(fs::path config_file, Config initial)
     }
   }
   scheduler_->set_device_hooks(
-      [this](const std::string& kind) -> std::string {
-        for (const auto& d : devices_)
-          if (d->takes(kind)) return d->config().name;
+      [this](const Job& job) -> std::string {
+        for (const auto& d : devices_) {
+          if (!d->takes(job.kind)) continue;
+          if (d->config().autostart) return d->config().name;
+          return d->config().name + " and `atelierctl start " + std::to_string(job.id) + "`";
+        }
         return "";
       },
       [this] {

@@ -12,9 +12,9 @@ Scheduler::Scheduler(JobService& jobs, ConversionRunner& runner,
 
 Scheduler::~Scheduler() { stop(); }
 
-void Scheduler::set_device_hooks(std::function<std::string(const std::string&)> device_for_kind,
+void Scheduler::set_device_hooks(std::function<std::string(const Job&)> waiting_for,
                                  std::function<void()> on_ready) {
-  device_for_kind_ = std::move(device_for_kind);
+  waiting_for_ = std::move(waiting_for);
   on_ready_ = std::move(on_ready);
 }
 
@@ -149,7 +149,7 @@ void Scheduler::convert_one(int64_t id) {
   switch (outcome.status) {
     case ConversionOutcome::Status::ok:
     {
-      const std::string device = device_for_kind_ ? device_for_kind_(job->kind) : "";
+      const std::string device = waiting_for_ ? waiting_for_(*job) : "";
       if (device.empty()) {
         jobs_.store().set_progress(id, 100, 100);
         jobs_.finish_converted(id, JobState::completed, "converted; no device for kind " + job->kind);

@@ -29,8 +29,9 @@ class Scheduler {
   ~Scheduler();
 
   // Jobs of a kind that a device takes end `ready` for it instead of `completed`.
-  // `device_for_kind` returns the device's name or ""; `on_ready` wakes the devices.
-  void set_device_hooks(std::function<std::string(const std::string& kind)> device_for_kind,
+  // `waiting_for` says what a converted job waits for ("knitter", "laser and `atelierctl start
+  // 7`"), or "" when no device takes its kind; `on_ready` wakes the devices.
+  void set_device_hooks(std::function<std::string(const Job& job)> waiting_for,
                         std::function<void()> on_ready);
 
   void start(int workers);
@@ -51,7 +52,7 @@ class Scheduler {
   JobService& jobs_;
   ConversionRunner& runner_;
   std::function<std::shared_ptr<const Config>()> config_;
-  std::function<std::string(const std::string&)> device_for_kind_;
+  std::function<std::string(const Job&)> waiting_for_;
   std::function<void()> on_ready_;
   mutable std::mutex mu_;
   std::condition_variable cv_;

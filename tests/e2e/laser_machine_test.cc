@@ -110,9 +110,11 @@ TEST(E2ELaser, ACutJobWaitsForTheOperatorFramesThenBurnsWhatTheSvgShows) {
   ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
   const json id = rig.job("box.svg")["id"];
 
-  // A laser job never starts without the operator: still ready a second later.
+  // A laser job never starts without the operator: still ready a second later, saying how.
   std::this_thread::sleep_for(std::chrono::seconds(1));
   EXPECT_EQ(rig.job("box.svg")["state"], "ready");
+  EXPECT_NE(rig.job("box.svg")["reason"].get<std::string>().find("atelierctl start " + id.dump()),
+            std::string::npos) << rig.job("box.svg")["reason"];
 
   // Framing traces the outline with the beam off and leaves the job ready.
   ASSERT_TRUE(rig.ctl("frame", id)["ok"]);

@@ -166,3 +166,19 @@ TEST(Config, SetOverridesParseTomlValuesAndBareWords) {
   EXPECT_TRUE(t["colors"].is_array());
   EXPECT_THROW(atelier::apply_set(t, "novalue"), ParamError);
 }
+
+TEST(Config, AJobsOverridesMergeIntoTablesKeyByKey) {
+  // A sidecar that only changes the power scale keeps the configured layers.
+  toml::table base = toml::parse("[laser]\ns_max = 1000\ntravel_mm_min = 5000\n"
+                                 "[[laser.layer]]\ncolor = \"#ff0000\"\n");
+  toml::table sidecar = toml::parse("[laser]\ns_max = 255\n");
+  atelier::merge_into(base, sidecar);
+  EXPECT_EQ(base["laser"]["s_max"].value<int64_t>(), 255);
+  EXPECT_EQ(base["laser"]["travel_mm_min"].value<int64_t>(), 5000);
+  ASSERT_NE(base["laser"]["layer"].as_array(), nullptr);
+  // An array is replaced whole: a job's own layer list is the whole list.
+  toml::table layers = toml::parse("[[laser.layer]]\ncolor = \"#000000\"\n[[laser.layer]]\ncolor = \"#0000ff\"\n");
+  atelier::merge_into(base, layers);
+  EXPECT_EQ(base["laser"]["layer"].as_array()->size(), 2u);
+  EXPECT_EQ(base["laser"]["layer"][0]["color"].value<std::string>(), "#000000");
+}
