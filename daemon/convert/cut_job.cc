@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "algorithms/laser/plan.h"
+#include "daemon/convert/output_files.h"
 #include "daemon/convert/param_table.h"
 #include "daemon/convert/svg_paths.h"
 
@@ -21,27 +22,6 @@ namespace fs = std::filesystem;
 constexpr double kPreviewPxPerMm = 10;
 constexpr double kPreviewMarginMm = 5;
 constexpr int kPreviewMaxPx = 8000;  // keeps a full-bed preview of a big machine in memory
-
-// Writes beside the target and renames, so a reader never sees half a file.
-void write_atomic(const fs::path& file, const char* data, size_t size) {
-  fs::path tmp = file;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) out.write(data, static_cast<std::streamsize>(size));
-    if (out) out.close();
-    if (!out) {
-      throw ConvertError(file.filename().string() + ": cannot write: " + std::strerror(errno));
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) throw ConvertError(file.filename().string() + ": cannot write: " + ec.message());
-}
-
-void write_atomic(const fs::path& file, const std::string& content) {
-  write_atomic(file, content.data(), content.size());
-}
 
 double round3(double v) { return std::round(v * 1000) / 1000; }
 
@@ -108,9 +88,6 @@ std::string configured_colours(const LaserParams& p) {
   return list;
 }
 
-void report_progress(const ConvertRequest& req, double f) {
-  if (req.progress) req.progress(std::clamp(f, 0.0, 1.0));
-}
 
 }  // namespace
 
@@ -184,16 +161,10 @@ ConvertResult convert_cut(const ConvertRequest& req) {
     throw ConvertError(req.output_dir.string() + ": cannot create output folder: " + ec.message());
   }
   const fs::path& out = req.output_dir;
-  write_atomic(out / "job.gcode", job.gcode);
+  write_output(out / "job.gcode", job.gcode);
 
   Preview preview = render_preview(job, lp.machine);
-  std::vector<uchar> png;
-  try {
-    cv::imencode(".png", preview.image, png);
-  } catch (const cv::Exception& e) {
-    throw ConvertError("preview.png: cannot encode: " + e.err);
-  }
-  write_atomic(out / "preview.png", reinterpret_cast<const char*>(png.data()), png.size());
+  write_output_png(out / "preview.png", preview.image);
   report_progress(req, 0.9);
 
   ConvertResult result;
@@ -234,7 +205,7 @@ ConvertResult convert_cut(const ConvertRequest& req) {
   r["gcode_lines"] = std::count(job.gcode.begin(), job.gcode.end(), '\n');
   r["preview_px_per_mm"] = round3(preview.px_per_mm);
   r["outputs"] = result.outputs;
-  write_atomic(out / "report.json", r.dump(2) + "\n");
+  write_output(out / "report.json", r.dump(2) + "\n");
   report_progress(req, 1.0);
 
   result.report = nlohmann::json::parse(r.dump());

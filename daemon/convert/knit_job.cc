@@ -17,6 +17,7 @@
 #include "daemon/convert/knit_chart.h"
 #include "daemon/convert/knit_knitout.h"
 #include "daemon/convert/knit_params.h"
+#include "daemon/convert/output_files.h"
 
 namespace atelier {
 namespace {
@@ -50,25 +51,6 @@ cv::Mat to_8bit(const cv::Mat& image) {
   return out;
 }
 
-void write_file(const fs::path& file, const std::string& content) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (out) out.write(content.data(), static_cast<std::streamsize>(content.size()));
-  if (out) out.close();
-  if (!out) {
-    throw ConvertError(file.filename().string() + ": cannot write: " + std::strerror(errno));
-  }
-}
-
-void write_png(const fs::path& file, const cv::Mat& image) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(file.string(), image);
-  } catch (const cv::Exception& e) {
-    throw ConvertError(file.filename().string() + ": cannot write: " + e.err);
-  }
-  if (!ok) throw ConvertError(file.filename().string() + ": cannot write PNG");
-}
-
 cv::Vec3b bgr(const Rgb& c) { return cv::Vec3b(c.b, c.g, c.r); }
 
 // The relax mask in stitch-grid coordinates: resampled exactly as the picture (same size,
@@ -84,9 +66,6 @@ cv::Mat load_relax(const fs::path& mask_file, const cv::Size& picture, const Kni
 
 double pct(long part, long whole) { return whole > 0 ? 100.0 * part / whole : 100.0; }
 
-void report_progress(const ConvertRequest& req, double f) {
-  if (req.progress) req.progress(std::clamp(f, 0.0, 1.0));
-}
 
 }  // namespace
 
@@ -146,7 +125,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   const fs::path& out = req.output_dir;
 
   cv::Mat pattern = 255 - grid * 255;  // 1 (contrast) -> black, 0 -> white
-  write_png(out / "pattern.png", pattern);
+  write_output_png(out / "pattern.png", pattern);
   timer.done("pattern_png");
 
   knit::PreviewStyle style;
@@ -154,7 +133,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   style.contrast = bgr(p.rgb[1]);
   style.stitch_px = std::clamp(4000 / grid.cols, 4, 12);  // keeps the render near 4000 px
   style.stitch_aspect = p.stitches_per_10cm / p.rows_per_10cm;
-  write_png(out / "preview.png", knit::render_preview(grid, style));
+  write_output_png(out / "preview.png", knit::render_preview(grid, style));
   timer.done("preview_png");
   report_progress(req, 0.85);
 
@@ -177,7 +156,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   KnitoutOptions ko;
   ko.stitches_per_10cm = p.stitches_per_10cm;
   ko.title = "atelier knit pattern from " + input_name;
-  write_file(out / "pattern.k", make_knitout(grid, ko));
+  write_output(out / "pattern.k", make_knitout(grid, ko));
   timer.done("knitout");
 
   ConvertResult result;
@@ -239,7 +218,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   timer.done("report");
   r["timings_ms"] = timer.json();
   r["outputs"] = result.outputs;
-  write_file(out / "report.json", r.dump(2) + "\n");
+  write_output(out / "report.json", r.dump(2) + "\n");
   report_progress(req, 1.0);
 
   result.report = nlohmann::json::parse(r.dump());

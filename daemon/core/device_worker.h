@@ -10,6 +10,7 @@
 
 #include <condition_variable>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -58,6 +59,32 @@ class DeviceWorker : public Device {
   virtual void abort_running() = 0;
   // Extra fields for describe() (e.g. the knitting machine model). Called with mu_ held.
   virtual void describe_more(nlohmann::json& out) const { (void)out; }
+
+  // For its life, marks `id` as the job on the machine and a fresh stop handle (e.g. a cancel
+  // flag) as its handle in `slot`, which cancel_running()/abort_running() use under mu_.
+  template <class Handle>
+  class OnMachine {
+   public:
+    OnMachine(DeviceWorker& device, int64_t id, std::shared_ptr<Handle>& slot)
+        : device_(device), slot_(slot), handle_(std::make_shared<Handle>()) {
+      std::lock_guard lock(device_.mu_);
+      device_.current_ = id;
+      slot_ = handle_;
+    }
+    ~OnMachine() {
+      std::lock_guard lock(device_.mu_);
+      device_.current_.reset();
+      slot_.reset();
+    }
+    OnMachine(const OnMachine&) = delete;
+    OnMachine& operator=(const OnMachine&) = delete;
+    Handle& handle() { return *handle_; }
+
+   private:
+    DeviceWorker& device_;
+    std::shared_ptr<Handle>& slot_;
+    std::shared_ptr<Handle> handle_;
+  };
 
   // The oldest ready job this device may take now (autostart, or armed), marked running with
   // `reason` under the claim lock; nullopt if none.

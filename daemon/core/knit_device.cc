@@ -120,20 +120,8 @@ void KnitDevice::knit(const Work& work) {
   const int64_t id = work.id;
   auto job = jobs_.store().get(id);
   if (!job) return;
-  auto cancel = std::make_shared<std::atomic<bool>>(false);
-  {
-    std::lock_guard lock(mu_);
-    current_ = id;
-    cancel_flag_ = cancel;
-  }
-  struct Clear {
-    KnitDevice* d;
-    ~Clear() {
-      std::lock_guard lock(d->mu_);
-      d->current_.reset();
-      d->cancel_flag_.reset();
-    }
-  } clear{this};
+  OnMachine<std::atomic<bool>> on_machine(*this, id, cancel_flag_);
+  std::atomic<bool>& cancel = on_machine.handle();
 
   set_state("busy", job_tag(id));
 
@@ -161,7 +149,7 @@ void KnitDevice::knit(const Work& work) {
     } waiting{this};
     {
       std::lock_guard lock(mu_);
-      if (cancel->load()) throw LinkLost("canceled before the machine was ready");
+      if (cancel.load()) throw LinkLost("canceled before the machine was ready");
       waiting_link_ = link.get();
     }
     ayab::HostSession session(*link, timeouts_);
@@ -177,16 +165,16 @@ void KnitDevice::knit(const Work& work) {
       rows_done = p.passes_done / plan.passes_per_row;
       jobs_.progress(id, rows_done, total_rows,
                      "knitted row " + std::to_string(rows_done) + " of " + std::to_string(total_rows));
-    }, *cancel);
+    }, cancel);
     link->close();
-    if (cancel->load()) {
+    if (cancel.load()) {
       end_early(id, rows_done, true);
     } else {
       jobs_.transition(id, JobState::completed,
                        "knitted " + std::to_string(total_rows) + " rows on " + config_.name);
     }
   } catch (const LinkLost& e) {
-    if (cancel->load() && !knitting_started) {
+    if (cancel.load() && !knitting_started) {
       end_early(id, rows_done, false);  // the link was closed on purpose, during the wait
     } else {
       set_state("offline", e.what());

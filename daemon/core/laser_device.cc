@@ -120,20 +120,8 @@ std::unique_ptr<Transport> LaserDevice::open_link() {
 }
 
 void LaserDevice::run_frame(int64_t id) {
-  auto controls = std::make_shared<grbl::Controls>();
-  {
-    std::lock_guard lock(mu_);
-    current_ = id;
-    controls_ = controls;
-  }
-  struct Clear {
-    LaserDevice* d;
-    ~Clear() {
-      std::lock_guard lock(d->mu_);
-      d->current_.reset();
-      d->controls_.reset();
-    }
-  } clear{this};
+  OnMachine<grbl::Controls> on_machine(*this, id, controls_);
+  grbl::Controls& controls = on_machine.handle();
   set_state("busy", "framing " + job_tag(id) + " (beam off)");
   try {
     const std::string text = read_gcode(id);
@@ -144,7 +132,7 @@ void LaserDevice::run_frame(int64_t id) {
     if (auto problem = job_fit_problem(program, info, gcode_file_for(jobs_.store().get(id)->kind)))
       throw std::runtime_error(*problem);
     if (!program.bounds) throw std::runtime_error("the job has no moves to frame");
-    session.frame(*program.bounds, options_.frame_feed_mm_min, *controls);
+    session.frame(*program.bounds, options_.frame_feed_mm_min, controls);
     link->close();
     set_last("framed " + job_tag(id) + " with the beam off");
   } catch (const grbl::Canceled&) {
@@ -157,20 +145,8 @@ void LaserDevice::run_frame(int64_t id) {
 }
 
 void LaserDevice::run_job(int64_t id) {
-  auto controls = std::make_shared<grbl::Controls>();
-  {
-    std::lock_guard lock(mu_);
-    current_ = id;
-    controls_ = controls;
-  }
-  struct Clear {
-    LaserDevice* d;
-    ~Clear() {
-      std::lock_guard lock(d->mu_);
-      d->current_.reset();
-      d->controls_.reset();
-    }
-  } clear{this};
+  OnMachine<grbl::Controls> on_machine(*this, id, controls_);
+  grbl::Controls& controls = on_machine.handle();
   set_state("busy", job_tag(id));
 
   size_t acked = 0, total = 0;
@@ -204,13 +180,13 @@ void LaserDevice::run_job(int64_t id) {
     if (options_.check_first) {
       set_detail(job_tag(id) + ": dry run in check mode");
       try {
-        session.check(program, options_.mode, *controls, [](const grbl::Progress&) {});
+        session.check(program, options_.mode, controls, [](const grbl::Progress&) {});
       } catch (const grbl::GrblError& e) {
         throw grbl::SetupError(std::string("check mode found an error, nothing was burned: ") + e.what());
       }
     }
     beam_may_fire = true;
-    session.stream(program, options_.mode, *controls, on_progress);
+    session.stream(program, options_.mode, controls, on_progress);
     link->close();
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
