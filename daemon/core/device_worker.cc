@@ -85,10 +85,18 @@ void DeviceWorker::wake() {
   cv_.notify_all();
 }
 
+void DeviceWorker::require_online() const {
+  std::lock_guard lock(mu_);
+  if (state_ == "offline")
+    throw std::runtime_error(config_.name + " is offline (" + detail_ + "); connect it, then ask again");
+}
+
 void DeviceWorker::start(int64_t job_id) {
   auto job = jobs_.store().get(job_id);
   if (!job || job->state != JobState::ready || !takes(job->kind))
     throw std::runtime_error(job_tag(job_id) + " is not a ready job for " + config_.name);
+  // An arming must not wait for a machine plugged in hours later, with nobody there.
+  require_online();
   {
     std::lock_guard lock(mu_);
     armed_.insert(job_id);
@@ -147,6 +155,9 @@ void DeviceWorker::worker() {
     }
     if (!port) {
       set_state("offline", why);
+      std::lock_guard lock(mu_);
+      armed_.clear();
+      forget_requests();
     } else {
       set_state("online", "");
       try {

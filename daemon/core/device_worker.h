@@ -57,6 +57,12 @@ class DeviceWorker : public Device {
   virtual bool cancel_running(int64_t job_id) = 0;
   // The daemon is stopping: end the job on the machine (if any) soon. Called with mu_ held.
   virtual void abort_running() = 0;
+  // The machine went offline: drop requests that must not run on their own when it comes
+  // back (a frame asked for hours ago). Called with mu_ held. Armed jobs are dropped by the
+  // base.
+  virtual void forget_requests() {}
+  // Throws std::runtime_error if the machine is offline (start and frame need it present).
+  void require_online() const;
   // Extra fields for describe() (e.g. the knitting machine model). Called with mu_ held.
   virtual void describe_more(nlohmann::json& out) const { (void)out; }
 

@@ -122,6 +122,7 @@ void KnitDevice::knit(const Work& work) {
   if (!job) return;
   OnMachine<std::atomic<bool>> on_machine(*this, id, cancel_flag_);
   std::atomic<bool>& cancel = on_machine.handle();
+  if (stopping()) cancel = true;  // stop() came between the claim and now
 
   set_state("busy", job_tag(id));
 

@@ -51,8 +51,11 @@ bool LaserDevice::cancel_running(int64_t job_id) {
   if (frame_request_ == job_id) frame_request_.reset();
   if (current_ != job_id || !controls_) return false;
   controls_->cancel.store(true);
-  return true;
+  // A job being framed is still ready: stopping the trace is not canceling it.
+  return !framing_;
 }
+
+void LaserDevice::forget_requests() { frame_request_.reset(); }
 
 void LaserDevice::hold(int64_t job_id) {
   std::lock_guard lock(mu_);
@@ -83,6 +86,7 @@ void LaserDevice::frame(int64_t job_id) {
     if (current_) throw std::runtime_error(config_.name + " is busy with " + job_tag(*current_));
     frame_request_ = job_id;
   }
+  require_online();
   wake();
 }
 
@@ -122,6 +126,18 @@ std::unique_ptr<Transport> LaserDevice::open_link() {
 void LaserDevice::run_frame(int64_t id) {
   OnMachine<grbl::Controls> on_machine(*this, id, controls_);
   grbl::Controls& controls = on_machine.handle();
+  struct Framing {
+    LaserDevice* d;
+    explicit Framing(LaserDevice* device) : d(device) {
+      std::lock_guard lock(d->mu_);
+      d->framing_ = true;
+    }
+    ~Framing() {
+      std::lock_guard lock(d->mu_);
+      d->framing_ = false;
+    }
+  } framing{this};
+  if (stopping()) controls.cancel = true;  // stop() came between the request and now
   set_state("busy", "framing " + job_tag(id) + " (beam off)");
   try {
     const std::string text = read_gcode(id);
@@ -147,6 +163,7 @@ void LaserDevice::run_frame(int64_t id) {
 void LaserDevice::run_job(int64_t id) {
   OnMachine<grbl::Controls> on_machine(*this, id, controls_);
   grbl::Controls& controls = on_machine.handle();
+  if (stopping()) controls.cancel = true;  // stop() came between the claim and now
   set_state("busy", job_tag(id));
 
   size_t acked = 0, total = 0;
@@ -161,7 +178,12 @@ void LaserDevice::run_job(int64_t id) {
     last_report = now;
     const std::string what = line_count(p.acked, p.total) + ", " + duration_text(p.seconds_left) + " left";
     set_detail(job_tag(id) + ": " + what);
-    jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
+    try {
+      jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
+    } catch (const std::exception& e) {
+      // A store hiccup (full disk) must not stop a burn half-way: the next report retries.
+      log::warning("job " + std::to_string(id) + ": progress not recorded: " + e.what());
+    }
   };
   try {
     const std::string file = gcode_file_for(jobs_.store().get(id)->kind);
@@ -193,14 +215,14 @@ void LaserDevice::run_job(int64_t id) {
     jobs_.progress(id, static_cast<int64_t>(total), static_cast<int64_t>(total), "done");
     jobs_.transition(id, JobState::completed, "ran " + std::to_string(total) + " G-code lines on " +
                                                   config_.name + " in " + duration_text(seconds));
-  } catch (const grbl::Canceled&) {
+  } catch (const grbl::Canceled& e) {
     const std::string where = beam_may_fire ? "at " + line_count(acked, total) : "before the beam fired";
+    const std::string outcome = "feed hold, soft reset: " + grbl::stop_outcome(e.position_kept);
     if (stopping()) {
-      jobs_.transition(id, JobState::interrupted, "atelierd stopped " + where +
-                                                      " (feed hold, soft reset, beam off); " + retry_hint(id));
+      jobs_.transition(id, JobState::interrupted,
+                       "atelierd stopped " + where + " (" + outcome + "); " + retry_hint(id));
     } else {
-      jobs_.transition(id, JobState::canceled,
-                       "canceled " + where + ": feed hold, soft reset, beam off (M5)");
+      jobs_.transition(id, JobState::canceled, "canceled " + where + " (" + outcome + ")");
     }
   } catch (const LinkLost& e) {
     set_state("offline", e.what());

@@ -54,6 +54,7 @@ class LaserDevice : public DeviceWorker {
   bool run_next() override;
   bool cancel_running(int64_t job_id) override;
   void abort_running() override;
+  void forget_requests() override;
   void run_job(int64_t id);
   void run_frame(int64_t id);
   // Opens the port and connects (banner, $I, $$). Throws LinkLost or grbl errors.
@@ -66,6 +67,7 @@ class LaserDevice : public DeviceWorker {
   // Guarded by mu_ (DeviceWorker's).
   std::shared_ptr<grbl::Controls> controls_;  // of the job or frame on the machine
   std::optional<int64_t> frame_request_;
+  bool framing_ = false;  // the job on the machine is being framed, not run
 };
 
 }  // namespace atelier

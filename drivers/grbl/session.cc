@@ -14,8 +14,17 @@ namespace {
 using std::chrono::milliseconds;
 
 constexpr uint8_t kSoftReset = 0x18;
+constexpr uint8_t kSpindleOverrideMinus10 = 0x9B;  // real-time: spindle (laser) override -10 %
+// A cancel gives the feed hold this long to bring the head to rest (a reset at rest keeps the
+// position); a head still moving then is stopped by a soft reset at once, so the beam is off
+// within ~100 ms of the request whatever the feed and acceleration ($120/$121).
+constexpr milliseconds kHoldBudget{50};
+constexpr milliseconds kHoldPoll{10};
+// Lines in flight, the machine Idle with an empty planner, and no ok for this long: an ok was
+// lost (a noisy line) and the stream is out of step.
+constexpr milliseconds kOutOfStep{5000};
 // Longest a read blocks, so controls set from another thread take effect within this.
-constexpr milliseconds kSlice{20};
+constexpr milliseconds kSlice{10};
 // Progress callbacks at most this often (acks can arrive at hundreds per second).
 constexpr milliseconds kProgressEvery{100};
 
@@ -38,10 +47,10 @@ std::string error_text(int code, size_t line_number, const std::string& line) {
   return where + ": error:" + std::to_string(code) + " " + error_meaning(code);
 }
 
-// States in which a feed hold has nothing left to decelerate.
+// States in which a feed hold has nothing left to decelerate (Door:2/3 still move).
 bool settled(const Status& s) {
   return (s.state == "Hold" && s.substate == 0) || s.state == "Idle" || s.state == "Check" || s.state == "Alarm" ||
-         s.state == "Door" || s.state == "Sleep";
+         (s.state == "Door" && (s.substate == 0 || s.substate == 1)) || s.state == "Sleep";
 }
 
 }  // namespace
@@ -188,7 +197,18 @@ MachineInfo Session::connect() {
   info_.max_travel_x = setting(130).value_or(0);
   info_.max_travel_y = setting(131).value_or(0);
 
-  query_status();  // sets alarm_locked from the state (Alarm after power-up with homing enabled)
+  // Alarm (after power-up with homing enabled) is noted in alarm_locked. A controller left in
+  // check mode, a hold, a door or sleep by someone else would not run the job as sent: a soft
+  // reset brings it back to Idle (or to a lock the operator must clear).
+  const Status s = query_status();
+  if (s.state != "Idle" && s.state != "Alarm") {
+    write_byte(kSoftReset);
+    if (!wait_banner(t_.stop))
+      throw SetupError("GRBL was in state " + s.state + " and did not restart after a soft reset");
+    const Status again = query_status();
+    if (again.state != "Idle" && again.state != "Alarm")
+      throw SetupError("GRBL stays in state " + again.state + " after a soft reset (a safety door open?)");
+  }
   return info_;
 }
 
@@ -245,22 +265,31 @@ void Session::reset_after_alarm() {
   }
 }
 
-void Session::stop_machine() {
-  const bool alarm_before = info_.alarm_locked;  // e.g. error:9: not ours to unlock
-  write_byte('!');  // decelerate; GRBL's laser mode turns the beam off during a hold
-  const auto settle_by = Clock::now() + t_.stop;
+bool Session::stop_machine() {
+  // Feed hold, and the laser override down to GRBL's floor (10 %) at once: in M4 the beam
+  // also fades with the speed, and GRBL turns it off when the hold is complete.
+  write_byte('!');
+  for (int i = 0; i < 9; ++i) write_byte(kSpindleOverrideMinus10);
+  const auto hold_by = Clock::now() + kHoldBudget;
+  // A report already on its way answers a '?' sent before the hold: only the ones asked for
+  // afterwards count, so skip as many reports as there were requests outstanding (at most one).
+  int stale = 1;
+  bool at_rest = false;
   Clock::time_point last_poll{};
-  for (bool done = false; !done;) {
+  while (!at_rest) {
     const auto now = Clock::now();
-    if (now >= settle_by) break;  // reset anyway: stopping beats waiting
-    if (now - last_poll >= t_.poll) {
+    if (now >= hold_by) break;
+    if (now - last_poll >= kHoldPoll) {
       write_byte('?');
       last_poll = now;
     }
-    auto r = next(std::min(settle_by, last_poll + t_.poll));
-    done = r && r->kind == Reply::status && settled(last_status_);
+    auto r = next(std::min(hold_by, last_poll + kHoldPoll));
+    if (!r || r->kind != Reply::status) continue;
+    if (stale-- > 0) continue;
+    at_rest = settled(last_status_);
   }
-  // A reset once the hold is complete keeps the position; in motion it raises ALARM:3.
+  // At rest a reset keeps the position; in motion it stops the beam and steppers at once and
+  // raises ALARM:3 (position possibly lost): the lock stays for the operator to clear.
   write_byte(kSoftReset);
   const auto banner_by = Clock::now() + t_.stop;
   for (bool banner = false; !banner;) {
@@ -270,9 +299,23 @@ void Session::stop_machine() {
                    " of a soft reset; the controller's state (and the beam's) is unknown");
     banner = r->kind == Reply::banner;
   }
-  const Status s = query_status();  // the lock hint, if any, came before this report
-  if (s.state == "Alarm" && !alarm_before) unlock();  // our own reset's ALARM:3
+  query_status();  // the lock hint, if any, came before this report
   if (!info_.alarm_locked) command("M5");
+  return at_rest && !info_.alarm_locked;
+}
+
+void Session::emergency_stop() noexcept {
+  try {
+    write_byte('!');
+    write_byte(kSoftReset);
+  } catch (...) {  // best effort: the caller is already failing
+  }
+}
+
+std::string stop_outcome(bool position_kept) {
+  return position_kept ? "the beam is off and the position kept"
+                       : "the beam is off; the head was still moving, so its position may be lost: home the "
+                         "machine (or unlock it with $X) before the next job";
 }
 
 void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress,
@@ -305,19 +348,24 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
   };
 
   bool hold_sent = false;
-  bool done_polled = false;  // a '?' went out after the last ok
+  bool resume_polled = false;  // a '?' went out since the last '~'
+  bool done_polled = false;    // a '?' went out after the last ok
+  Clock::time_point last_ack = Clock::now();
   Clock::time_point last_poll{};
   last_rx_ = Clock::now();
   for (;;) {
     if (c.cancel) {
-      stop_machine();
-      throw Canceled("canceled by the operator after " + std::to_string(acked) + " of " + std::to_string(n) +
-                     " lines; the beam is off and the position kept");
+      const bool kept = stop_machine();
+      Canceled canceled("canceled by the operator after " + std::to_string(acked) + " of " + std::to_string(n) +
+                        " lines; " + stop_outcome(kept));
+      canceled.position_kept = kept;
+      throw canceled;
     }
     const bool want_hold = c.hold;
     if (want_hold != hold_sent) {
       write_byte(want_hold ? '!' : '~');
       hold_sent = want_hold;
+      resume_polled = false;
     }
     while (next_line < n) {
       const size_t bytes = p.lines[next_line].size() + 1;
@@ -342,6 +390,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
       write_byte('?');
       last_poll = now;
       if (acked == n) done_polled = true;
+      if (!hold_sent) resume_polled = true;
     }
     auto r = next(std::min(last_poll + t_.poll, now + kSlice));
     if (!r) continue;
@@ -351,13 +400,14 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         in_flight.pop_front();
         window.acked();
         ++acked;
+        last_ack = Clock::now();
         report(acked == n);
         break;
       case Reply::error: {
         if (in_flight.empty())
           throw std::runtime_error("GRBL sent error:" + std::to_string(r->code) + " with no line in flight");
         const size_t k = in_flight.front();
-        stop_machine();  // lines already queued would still run
+        stop_machine();  // lines already queued would still run; the error says what matters
         throw GrblError(r->code, static_cast<size_t>(p.source_line[k]), p.source_text[k]);
       }
       case Reply::alarm:
@@ -368,15 +418,30 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         throw std::runtime_error("GRBL restarted during the job (near line " + std::to_string(at) +
                                  "); the rest of the job was not run");
       }
-      case Reply::status:
+      case Reply::status: {
+        const bool idle_and_empty = last_status_.state == "Idle" &&
+            (last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks);
         // Done once a report requested after the last ok says Idle with an empty planner.
-        if (acked == n && done_polled && last_status_.state == "Idle" &&
-            (last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks)) {
+        if (acked == n && done_polled && idle_and_empty) {
           report(true);
           return;
         }
+        // GRBL takes '~' only once a hold is complete: a resume sent during the deceleration
+        // is dropped, so say it again while the machine still reports a hold.
+        if (!hold_sent && resume_polled && last_status_.state == "Hold") {
+          write_byte('~');
+          resume_polled = false;
+        }
+        if (!in_flight.empty() && idle_and_empty && Clock::now() - last_ack >= kOutOfStep) {
+          emergency_stop();
+          throw std::runtime_error("GRBL is idle but has not acknowledged line " +
+                                   std::to_string(p.source_line[in_flight.front()]) + " for " +
+                                   seconds_text(kOutOfStep) + " (an ok was lost: the stream is out of step); "
+                                   "sent feed hold and reset");
+        }
         report(false);
         break;
+      }
       default:
         break;
     }
@@ -384,12 +449,34 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
 }
 
 void Session::stream(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress) {
-  run_lines(p, mode, c, on_progress, false);
+  guarded_run(p, mode, c, on_progress, false);
+}
+
+void Session::guarded_run(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress,
+                          bool check_mode) {
+  try {
+    run_lines(p, mode, c, on_progress, check_mode);
+  } catch (const LinkLost&) {
+    throw;
+  } catch (const Canceled&) {
+    throw;
+  } catch (const GrblError&) {
+    throw;  // stopped already
+  } catch (const GrblAlarm&) {
+    throw;  // GRBL stopped itself; reset already sent
+  } catch (const Silent&) {
+    throw;  // hold and reset already sent
+  } catch (...) {
+    // Anything else (a progress callback that threw, a protocol surprise) must not leave
+    // GRBL running the lines already queued.
+    emergency_stop();
+    throw;
+  }
 }
 
 void Session::check(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress) {
   command("$C");  // "[MSG:Enabled]", ok; error:8 unless Idle
-  run_lines(p, mode, c, on_progress, true);
+  guarded_run(p, mode, c, on_progress, true);
   // Leaving check mode makes GRBL reset itself: "[MSG:Disabled]", ok, then the banner.
   // Anything sent before the banner would be lost with the cleared receive buffer.
   write_line("$C");

@@ -88,7 +88,12 @@ class Silent : public std::runtime_error {  // the controller stopped answering 
 class Canceled : public std::runtime_error {  // stream ended by Controls::cancel
  public:
   using std::runtime_error::runtime_error;
+  bool position_kept = true;  // false: the reset stopped a moving head (see stop_outcome)
 };
+
+// What a stop left behind, for the operator: "the beam is off and the position kept", or that
+// the position may be lost and the machine wants homing or $X before the next job.
+std::string stop_outcome(bool position_kept);
 
 class Session {
  public:
@@ -117,9 +122,13 @@ class Session {
   // Streams every line and returns once all are acknowledged and the machine is Idle again.
   // error:N: stops sending, feed hold, soft reset (the queued lines must not run), M5, then
   // GrblError for that line. ALARM:N: soft reset (alarms 1 and 2 wait for one), GrblAlarm.
-  // Controls::hold: '!' when it becomes true, '~' when it becomes false. Controls::cancel:
-  // '!', wait for Hold:0/Idle (timeouts.stop), 0x18, banner, $X if the reset raised ALARM:3,
-  // M5, then Canceled. Nothing received for timeouts.silent: Silent.
+  // Controls::hold: '!' when it becomes true, '~' when it becomes false (again while GRBL still
+  // reports Hold, since it drops a '~' that comes before the hold is complete).
+  // Controls::cancel: '!' and the laser override to 10 %, up to 50 ms for Hold:0, then 0x18
+  // (at rest: position kept; still moving: beam off at once, and the ALARM:3 lock is left for
+  // the operator), banner, M5, then Canceled. Nothing received for timeouts.silent: Silent.
+  // Idle with lines unacknowledged for 5 s (a lost ok): hold, reset, std::runtime_error.
+  // Any other unexpected exception: hold and reset before it propagates.
   void stream(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress);
 
   // Traces the bounds with the beam off (frame_program) at feed_mm_min; waits for Idle.
@@ -140,8 +149,15 @@ class Session {
   // A setup query ($I, $$): the lines before its ok. Throws SetupError.
   std::vector<Reply> setup_query(const std::string& cmd);
   void run_lines(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress, bool check_mode);
-  // Cancel/error path: feed hold, settle, soft reset, banner, $X after our ALARM:3, M5.
-  void stop_machine();
+  // Cancel/error path: feed hold with the laser override at its floor, up to 50 ms for the
+  // head to come to rest, soft reset, banner, M5 (unless locked). Returns true if the head was
+  // at rest when reset (position kept); false when the reset stopped it moving (ALARM:3: the
+  // lock stays for the operator, since the position may be lost).
+  bool stop_machine();
+  // Last resort on an unexpected failure: feed hold and soft reset, errors ignored.
+  void emergency_stop() noexcept;
+  // run_lines with emergency_stop() on any unexpected exception.
+  void guarded_run(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress, bool check_mode);
   // After ALARM:N: soft reset so the alarm's lock-up ends and the queue is dropped.
   void reset_after_alarm();
 
