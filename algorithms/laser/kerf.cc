@@ -35,13 +35,27 @@ Path from_clipper(const ClipperLib::Path& path) {
 
 }  // namespace
 
+std::vector<size_t> nesting_depths(const std::vector<Path>& paths) {
+  const auto containers = containing_paths(paths);
+  std::vector<size_t> depths(paths.size(), 0);
+  for (size_t i = 0; i < paths.size(); ++i)
+    for (size_t c : containers[i])
+      if (paths[c].closed) ++depths[i];
+  return depths;
+}
+
 KerfResult apply_kerf(const std::vector<Path>& paths, double kerf_mm, double arc_tolerance_mm) {
+  if (kerf_mm <= 0) return KerfResult{paths, 0};
+  return apply_kerf(paths, kerf_mm, nesting_depths(paths), arc_tolerance_mm);
+}
+
+KerfResult apply_kerf(const std::vector<Path>& paths, double kerf_mm, const std::vector<size_t>& depths,
+                      double arc_tolerance_mm) {
   KerfResult result;
   if (kerf_mm <= 0) {
     result.paths = paths;
     return result;
   }
-  const auto containers = containing_paths(paths);
   for (size_t i = 0; i < paths.size(); ++i) {
     const Path& p = paths[i];
     // Lines and zero-area "closed" paths have no inside to keep; burn them as drawn.
@@ -49,10 +63,7 @@ KerfResult apply_kerf(const std::vector<Path>& paths, double kerf_mm, double arc
       result.paths.push_back(p);
       continue;
     }
-    size_t depth = 0;
-    for (size_t c : containers[i])
-      if (paths[c].closed) ++depth;
-    const bool hole = depth % 2 == 1;
+    const bool hole = depths.at(i) % 2 == 1;
     ClipperLib::ClipperOffset offset(2.0, std::max(arc_tolerance_mm, 0.001) * kScale);
     offset.AddPath(to_clipper(p), ClipperLib::jtRound, ClipperLib::etClosedPolygon);
     ClipperLib::Paths out;

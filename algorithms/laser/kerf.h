@@ -22,5 +22,13 @@ struct KerfResult {
 // 1000 per mm (1 µm resolution); round joins are approximated within `arc_tolerance_mm`.
 KerfResult apply_kerf(const std::vector<Path>& paths, double kerf_mm,
                       double arc_tolerance_mm = 0.01);
+// The same with the nesting depth of each path given (how many closed paths contain it),
+// counted over every cut layer: a hole drawn in another colour than its outline still
+// shrinks.
+KerfResult apply_kerf(const std::vector<Path>& paths, double kerf_mm, const std::vector<size_t>& depths,
+                      double arc_tolerance_mm = 0.01);
+
+// For each path, how many closed paths of `paths` contain it.
+std::vector<size_t> nesting_depths(const std::vector<Path>& paths);
 
 }  // namespace atelier::laser

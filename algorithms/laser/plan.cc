@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "algorithms/laser/kerf.h"
 #include "algorithms/laser/order.h"
@@ -135,12 +136,33 @@ std::string format_number(double value) {
 }
 
 Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
-  // Engrave first: engraving after cutting would hit pieces that may have shifted.
+  // Nesting over every cut layer at once, so that a hole drawn in another colour than its
+  // outline still counts as a hole (kerf inwards, cut before the outline).
+  std::vector<Path> all_cut;
+  for (const auto& l : layers)
+    if (l.settings.mode == Mode::cut) all_cut.insert(all_cut.end(), l.paths.begin(), l.paths.end());
+  const std::vector<size_t> all_depths = nesting_depths(all_cut);
+  std::map<const Layer*, std::vector<size_t>> depths;
+  std::map<const Layer*, size_t> deepest;
+  for (size_t at = 0; const auto& l : layers) {
+    if (l.settings.mode != Mode::cut) continue;
+    auto& d = depths[&l];
+    d.assign(all_depths.begin() + static_cast<long>(at), all_depths.begin() + static_cast<long>(at + l.paths.size()));
+    deepest[&l] = d.empty() ? 0 : *std::max_element(d.begin(), d.end());
+    at += l.paths.size();
+  }
+
+  // Engrave first: engraving after cutting would hit pieces that may have shifted. Then the
+  // cut layers, those holding the deepest (innermost) contours first: a piece must not drop
+  // out before its holes are cut.
   std::vector<const Layer*> order;
   for (const auto& l : layers)
     if (l.settings.mode == Mode::engrave) order.push_back(&l);
+  std::vector<const Layer*> cuts;
   for (const auto& l : layers)
-    if (l.settings.mode == Mode::cut) order.push_back(&l);
+    if (l.settings.mode == Mode::cut) cuts.push_back(&l);
+  std::stable_sort(cuts.begin(), cuts.end(), [&](const Layer* a, const Layer* b) { return deepest[a] > deepest[b]; });
+  order.insert(order.end(), cuts.begin(), cuts.end());
 
   Job job;
   Point head = machine_zero_in_design(machine);
@@ -149,7 +171,7 @@ Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
     const LayerSettings& s = layer->settings;
     check_settings(s, machine);
     KerfResult kerf;
-    if (s.mode == Mode::cut) kerf = apply_kerf(layer->paths, s.kerf_mm);
+    if (s.mode == Mode::cut) kerf = apply_kerf(layer->paths, s.kerf_mm, depths[layer]);
     else kerf.paths = layer->paths;
     std::vector<Path> paths = order_paths(kerf.paths, head);
     if (paths.empty()) continue;

@@ -201,6 +201,8 @@ ConvertResult convert_cut(const ConvertRequest& req) {
   r["origin"] = laser::origin_name(lp.machine.origin);
   r["s_max"] = lp.machine.s_max;
   r["ignored_unstroked"] = unstroked;
+  // e.g. {"text": 2}: convert text to paths (Inkscape: Path > Object to Path) to burn it.
+  r["ignored_elements"] = drawing.unburned;
   r["source"] = {{"width_mm", round3(drawing.width_mm)}, {"height_mm", round3(drawing.height_mm)}};
   r["gcode_lines"] = std::count(job.gcode.begin(), job.gcode.end(), '\n');
   r["preview_px_per_mm"] = round3(preview.px_per_mm);

@@ -4,6 +4,7 @@
 // false positive inside the library); the warning is only silenced for this file.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
+#include <map>
 #include <rapidxml_ns/rapidxml_ns.hpp>
 #include <svgpp/policy/xml/rapidxml_ns.hpp>
 #include <svgpp/svgpp.hpp>
@@ -327,6 +328,20 @@ void parse(rapidxml_ns::xml_document<>& doc, std::vector<char>& text, const std:
   }
 }
 
+// Elements that draw but that the laser does not burn (text would need a font outline, <use>
+// a clone's resolution, <image> a raster engrave), by name, counted below `node`.
+void count_unburned(const rapidxml_ns::xml_node<>* node, std::map<std::string, size_t>& out) {
+  for (auto* c = node->first_node(); c; c = c->next_sibling()) {
+    if (c->type() != rapidxml_ns::node_element) continue;
+    const std::string local(c->local_name(), c->local_name_size());
+    if (local == "text" || local == "use" || local == "image") {
+      ++out[local];
+      continue;
+    }
+    if (local != "defs" && local != "symbol") count_unburned(c, out);
+  }
+}
+
 rapidxml_ns::xml_node<>* document_element(rapidxml_ns::xml_document<>& doc) {
   rapidxml_ns::xml_node<>* node = doc.first_node();
   while (node && node->type() != rapidxml_ns::node_element) node = node->next_sibling();
@@ -360,6 +375,7 @@ SvgDrawing read_svg(const fs::path& file, double tolerance_mm, uintmax_t max_byt
   }
 
   SvgDrawing drawing;
+  count_unburned(root, drawing.unburned);
   try {
     RootProbe probe;
     svgpp::document_traversal<

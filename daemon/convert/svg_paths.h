@@ -18,6 +18,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ struct SvgShape {
 struct SvgDrawing {
   double width_mm = 0, height_mm = 0;
   std::vector<SvgShape> shapes;  // document order; shapes without geometry are left out
+  // Drawing elements that are not burned, by element name ("text", "use", "image"): the
+  // report names them so a missing engraving is not a surprise.
+  std::map<std::string, size_t> unburned;
 };
 
 // Throws ConvertError naming the file and the problem ("x.svg: not an SVG file: ...",

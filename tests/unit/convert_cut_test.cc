@@ -250,5 +250,21 @@ TEST_F(ConvertCutTest, CommandLineTool) {
   EXPECT_NE(std::system(cmd.c_str()), 0);
 }
 
+TEST_F(ConvertCutTest, TextClonesAndImagesAreNamedInTheReportNotSilentlyLost) {
+  fs::create_directories(out_.parent_path());
+  const fs::path svg = out_.string() + "-input.svg";
+  std::ofstream(svg) << R"(<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+     width="50mm" height="50mm" viewBox="0 0 50 50">
+  <defs><text id="t">in defs, not drawn</text></defs>
+  <rect id="r" x="5" y="5" width="20" height="20" fill="none" stroke="#000000"/>
+  <text x="5" y="40" stroke="#0000ff">Hello</text>
+  <g><text x="5" y="45" stroke="#0000ff">World</text><use xlink:href="#r" x="20"/></g>
+</svg>)";
+  ConvertResult r = run(svg);
+  fs::remove(svg);
+  EXPECT_EQ(r.report["ignored_elements"], (nlohmann::json{{"text", 2}, {"use", 1}}));
+  EXPECT_EQ(r.report["layers"].size(), 1u);
+}
+
 }  // namespace
 }  // namespace atelier

@@ -95,6 +95,20 @@ TEST(LaserGcode, KerfKeepsPiecesAtTheirDrawnSize) {
   EXPECT_NEAR(width_of(ejob.toolpaths[0].paths[1]), 20, 1e-9);
 }
 
+TEST(LaserGcode, AHoleOnAnotherCutLayerIsStillAHole) {
+  // The outline is drawn in black (listed first), its hole in red: the hole's layer is cut
+  // first and the hole shrinks, as it would on one layer.
+  Layer outline = layer("black", Mode::cut, {square(10, 10, 20)});
+  Layer holes = layer("red", Mode::cut, {square(15, 15, 10)});
+  outline.settings.kerf_mm = holes.settings.kerf_mm = 0.2;
+  Job job = plan_job({outline, holes}, Machine{});
+  ASSERT_EQ(job.toolpaths.size(), 2u);
+  EXPECT_EQ(job.toolpaths[0].settings.name, "red");
+  EXPECT_NEAR(width_of(job.toolpaths[0].paths[0]), 9.8, 0.002) << "the hole shrinks";
+  EXPECT_EQ(job.toolpaths[1].settings.name, "black");
+  EXPECT_NEAR(width_of(job.toolpaths[1].paths[0]), 20.2, 0.002) << "the outline grows";
+}
+
 TEST(LaserGcode, VanishedHoleIsCounted) {
   Layer l = layer("c", Mode::cut, {square(10, 10, 20), square(15, 15, 0.3)});
   l.settings.kerf_mm = 0.5;
