@@ -177,21 +177,22 @@ TEST(E2ELaser, ACutJobWaitsForTheOperatorFramesThenBurnsWhatTheSvgShows) {
   EXPECT_GT(covered(intended, burnt, 2), 0.95) << "a stroke of the drawing was not burned";
 }
 
-// Cancels box.svg once it has burned for a while; returns how long after the request the
-// beam still burned (seconds) and leaves the job's reason in `reason`.
-double cancel_mid_job(LaserRig& rig, std::string& reason) {
-  const json id = rig.job("box.svg")["id"];
+// Cancels the job `name` once `min_done` lines are acknowledged and it has burned a little
+// longer; returns how long after the request the beam still burned (seconds) and leaves the
+// job's reason in `reason`.
+double cancel_mid_job(LaserRig& rig, const std::string& name, int min_done, std::string& reason) {
+  const json id = rig.job(name)["id"];
   EXPECT_TRUE(rig.ctl("start", id)["ok"]);
   EXPECT_TRUE(rig.daemon->wait_for([&] {
-    auto j = rig.job("box.svg");
-    return j["state"] == "running" && j["progress"]["done"].get<int>() > 20;
-  }, std::chrono::seconds(30))) << rig.job("box.svg").dump();
+    auto j = rig.job(name);
+    return j["state"] == "running" && j["progress"]["done"].get<int>() >= min_done;
+  }, std::chrono::seconds(30))) << rig.job(name).dump();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
 
   const double asked = now_s();
   EXPECT_TRUE(rig.ctl("cancel", id)["ok"]);
-  EXPECT_TRUE(rig.wait_state("box.svg", "canceled", std::chrono::seconds(10))) << rig.job("box.svg").dump();
-  reason = rig.job("box.svg")["reason"];
+  EXPECT_TRUE(rig.wait_state(name, "canceled", std::chrono::seconds(10))) << rig.job(name).dump();
+  reason = rig.job(name)["reason"];
 
   const json rec = rig.finish();
   double last_burn = 0;
@@ -219,7 +220,7 @@ TEST(E2ELaser, CancelMidJobTurnsTheBeamOffWithin100MillisecondsAndKeepsThePositi
   atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
   ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
   std::string reason;
-  EXPECT_LT(cancel_mid_job(rig, reason), 0.1);
+  EXPECT_LT(cancel_mid_job(rig, "box.svg", 20, reason), 0.1);
   EXPECT_NE(reason.find("beam is off and the position kept"), std::string::npos) << reason;
 }
 
@@ -228,10 +229,16 @@ TEST(E2ELaser, CancelAtGrblsStockAccelerationStillTurnsTheBeamOffWithin100Millis
   // and says the position may be lost.
   LaserRig rig({}, kSlowCutLayers, 1.0);
   rig.configure_controller({"$120=10", "$121=10"});
-  atelier::test::drop_file(svg("sample-box.svg"), rig.daemon->incoming("cut") / "box.svg");
-  ASSERT_TRUE(rig.wait_state("box.svg", "ready")) << rig.daemon->log();
+  // One long cut near the origin (76 s at 300 mm/min): the cancel always finds the head
+  // mid-block at 5 mm/s, half a second from rest at 10 mm/s^2.
+  const fs::path line = rig.tmp.path() / "line.svg";
+  atelier::test::write_file(line, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"400mm\" height=\"400mm\" "
+                                  "viewBox=\"0 0 400 400\"><path d=\"M 10 390 L 390 390\" stroke=\"#000000\" "
+                                  "fill=\"none\"/></svg>\n");
+  atelier::test::drop_file(line, rig.daemon->incoming("cut") / "line.svg");
+  ASSERT_TRUE(rig.wait_state("line.svg", "ready")) << rig.daemon->log();
   std::string reason;
-  EXPECT_LT(cancel_mid_job(rig, reason), 0.1);
+  EXPECT_LT(cancel_mid_job(rig, "line.svg", 3, reason), 0.1);
   EXPECT_NE(reason.find("position may be lost"), std::string::npos) << reason;
 }
 
