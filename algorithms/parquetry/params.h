@@ -1,0 +1,40 @@
+// Parameters of a parquetry plan (paper table 1), named as the keys of `[parquetry]`.
+//
+// Units: mm for geometry; `px_per_mm` is the working resolution at which target and wood are
+// compared (features, matching, masks, reconstruction). Pure data; validate() throws
+// std::invalid_argument naming the parameter.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace atelier::parquetry {
+
+// Order of the priority queue of target patches (paper 3.3, figure 6).
+enum class Order { saliency, center };
+const char* order_name(Order order);                 // "saliency", "center"
+Order order_from_name(const std::string& name);      // throws std::invalid_argument
+
+struct Params {
+  double size_mm = 360;      // shorter side of the result (trimmed down to whole patches)
+  double patch_mm = 14;      // edge of a square patch before adaptive splitting
+  int rotations = 15;        // rotated copies of every sheet, at k * 360 / rotations degrees
+  double w_intens = 0.5;     // weight of the intensity feature (eq. 1)
+  double w_edge = 0.5;       // weight of the Sobel edge feature (eq. 1)
+  double w_hist = 0.5;       // interpolation towards the histogram-matched target (eq. 2)
+  int adaptive_levels = 0;   // how many times a patch may be split in four (paper 3.3)
+  double adaptive_factor = 1.2;  // split when the four children cost < factor * the whole
+  Order order = Order::saliency;
+  std::uint64_t seed = 0;    // breaks ties in the patch order
+  // Working resolution. 0.5 px/mm (2 mm pixels, a 14 mm patch is 7x7 px) keeps the paper's
+  // eye (28x17 patches, 15 rotations, 12 sheets) under 10 s on 2 cores; matching cost grows
+  // with the square of this. patch_mm * px_per_mm is rounded to whole pixels.
+  double px_per_mm = 0.5;
+};
+
+// Smallest patch edge the workshop can cut and assemble (paper 4.1).
+inline constexpr double kMinPatchMm = 5.0;
+
+void validate(const Params& params);
+
+}  // namespace atelier::parquetry

@@ -1,0 +1,85 @@
+// Parquetry matching benchmark (issue 5): the paper's eye-sized result, 28x17 patches of 14 mm
+// with 15 rotations over the 12 real wood scans (read at 25.4 dpi: 0.34 m^2 of veneer), and
+// smaller/larger cases to show cost against patches x wood area. Target: under 10 s on 2 cores.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "algorithms/parquetry/plan.h"
+
+namespace {
+
+using namespace atelier::parquetry;
+
+std::vector<Sheet> wood(int count) {
+  const std::filesystem::path dir =
+      std::filesystem::path(ATELIER_TEST_DATA) / "../../../shared/testdata/wood";
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() == ".png") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.size() < static_cast<std::size_t>(count)) {
+    throw std::runtime_error("parquetry_bench: not enough wood scans in " + dir.string());
+  }
+  std::vector<Sheet> sheets;
+  for (int i = 0; i < count; ++i) {
+    Sheet s{files[i].stem().string(), cv::imread(files[i].string(), cv::IMREAD_COLOR), {}, 25.4};
+    sheets.push_back(s);
+  }
+  return sheets;
+}
+
+// butterfly.jpg resized to cols:rows, so the result is exactly cols x rows patches.
+cv::Mat target(int cols, int rows) {
+  const std::string path = std::string(ATELIER_TEST_DATA) + "/butterfly.jpg";
+  cv::Mat m = cv::imread(path, cv::IMREAD_COLOR);
+  if (m.empty()) throw std::runtime_error("parquetry_bench: cannot read " + path);
+  cv::resize(m, m, cv::Size(cols * 20, rows * 20), 0, 0, cv::INTER_AREA);
+  return m;
+}
+
+// Args: patch columns, patch rows, sheets, rotations.
+void BM_ParquetryPlan(benchmark::State& state) {
+  const int cols = static_cast<int>(state.range(0)), rows = static_cast<int>(state.range(1));
+  const auto sheets = wood(static_cast<int>(state.range(2)));
+  const cv::Mat photo = target(cols, rows);
+  Params p;
+  p.rotations = static_cast<int>(state.range(3));
+  p.size_mm = std::min(cols, rows) * p.patch_mm;
+  double area = 0;
+  for (const Sheet& s : sheets) area += s.image.cols * s.image.rows;  // 1 px = 1 mm^2
+  std::size_t pieces = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    const Plan plan = make_plan(photo, sheets, Stock{}, p);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pieces = plan.pieces.size();
+    benchmark::DoNotOptimize(plan.error);
+  }
+  state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " patches of 14 mm, " +
+                 std::to_string(p.rotations) + " rotations, " + std::to_string(sheets.size()) +
+                 " sheets (" + std::to_string(area / 1e6).substr(0, 4) + " m^2) at " +
+                 std::to_string(p.px_per_mm).substr(0, 4) + " px/mm, " +
+                 std::to_string(cv::getNumThreads()) + " threads");
+  state.counters["pieces"] = static_cast<double>(pieces);
+  state.counters["ms_per_patch"] =
+      1000.0 * seconds / static_cast<double>(state.iterations()) / static_cast<double>(pieces);
+}
+BENCHMARK(BM_ParquetryPlan)
+    ->Args({28, 17, 12, 15})  // the issue's target
+    ->Args({14, 9, 12, 15})   // a quarter of the patches
+    ->Args({14, 9, 6, 15})    // and half the wood
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+}  // namespace

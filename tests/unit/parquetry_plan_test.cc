@@ -1,0 +1,300 @@
+// Parquetry plans on the real wood textures (pychess scans, see ../shared/testdata/SOURCES.md):
+// every piece on free, usable wood, none sharing wood, the wood shown is the wood cut, and the
+// paper's claims (grain beats flat colour, queue order, adaptive splitting) hold.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "algorithms/parquetry/plan.h"
+
+namespace atelier::parquetry {
+namespace {
+
+// The scans are 160 or 200 px photographs of boards; read at 25.4 dpi (1 px = 1 mm) the
+// 12 sheets hold 0.34 m^2 of veneer, enough for the paper's 28x17-patch eye.
+constexpr double kWoodDpi = 25.4;
+
+std::vector<Sheet> real_wood(bool with_holes) {
+  const std::filesystem::path dir = std::filesystem::path(ATELIER_SOURCE_DIR) / "../shared/testdata/wood";
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() == ".png") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<Sheet> sheets;
+  for (const auto& f : files) {
+    Sheet s;
+    s.id = f.stem().string();
+    s.image = cv::imread(f.string(), cv::IMREAD_COLOR);
+    s.dpi = kWoodDpi;
+    if (with_holes) {
+      // A ragged-free frame of 4 mm and a 30 mm screw hole in the middle are not veneer.
+      s.usable = cv::Mat::zeros(s.image.size(), CV_8UC1);
+      s.usable(cv::Rect(4, 4, s.image.cols - 8, s.image.rows - 8)).setTo(255);
+      cv::circle(s.usable, {s.image.cols / 2, s.image.rows / 2}, 15, cv::Scalar(0), cv::FILLED);
+    }
+    sheets.push_back(s);
+  }
+  return sheets;
+}
+
+cv::Mat photo(const char* name) {
+  cv::Mat m = cv::imread(std::string(ATELIER_TEST_DATA) + "/" + name, cv::IMREAD_COLOR);
+  if (m.empty()) throw std::runtime_error(std::string("cannot read test image ") + name);
+  return m;
+}
+
+// Fills polygon `mm` (4 corners of a rectangle) rasterised at `px_per_mm`, shrunk by `shrink`
+// pixels on every side (the tolerance), adding 1 to every pixel whose centre it covers.
+void rasterise(cv::Mat& count, const std::array<cv::Point2d, 4>& mm, double px_per_mm,
+               double shrink) {
+  std::array<cv::Point2d, 4> q;
+  for (int i = 0; i < 4; ++i) q[i] = mm[i] * px_per_mm;
+  const cv::Point2d u = (q[1] - q[0]) / cv::norm(q[1] - q[0]);
+  const cv::Point2d v = (q[3] - q[0]) / cv::norm(q[3] - q[0]);
+  const std::array<cv::Point2d, 4> in = {u + v, -u + v, -u - v, u - v};
+  std::vector<cv::Point> pts;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d p = (q[i] + shrink * in[i] - cv::Point2d(0.5, 0.5)) * 256.0;
+    pts.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
+  }
+  cv::Mat one = cv::Mat::zeros(count.size(), CV_16UC1);
+  cv::fillConvexPoly(one, pts, cv::Scalar(1), cv::LINE_8, 8);
+  count += one;
+}
+
+const Sheet& sheet_named(const std::vector<Sheet>& sheets, const std::string& id) {
+  return *std::find_if(sheets.begin(), sheets.end(), [&](const Sheet& s) { return s.id == id; });
+}
+
+// Most pieces sharing any pixel of a sheet, rasterised at 4 px/mm with a 1 px tolerance.
+int most_pieces_on_a_pixel(const std::vector<Piece>& pieces, const std::vector<Sheet>& sheets) {
+  constexpr double kRes = 4.0;
+  std::map<std::string, cv::Mat> count;
+  for (const Piece& p : pieces) {
+    const Sheet& s = sheet_named(sheets, p.sheet_id);
+    cv::Mat& c = count[p.sheet_id];
+    if (c.empty()) {
+      c = cv::Mat::zeros(cvRound(s.image.rows / s.dpi * 25.4 * kRes),
+                         cvRound(s.image.cols / s.dpi * 25.4 * kRes), CV_16UC1);
+    }
+    rasterise(c, p.source_mm, kRes, 1.0);
+  }
+  double most = 0;
+  for (auto& [id, c] : count) {
+    double m = 0;
+    cv::minMaxLoc(c, nullptr, &m);
+    most = std::max(most, m);
+  }
+  return static_cast<int>(most);
+}
+
+Params small_params() {
+  Params p;
+  p.size_mm = 98;  // 7 patches on the shorter side: quick, still a picture
+  return p;
+}
+
+TEST(ParquetryPlan, CoversTheTargetWithPiecesOnFreeUsableWood) {
+  const auto sheets = real_wood(true);
+  const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, small_params());
+  EXPECT_EQ(plan.grid_rows, 7);
+  EXPECT_EQ(plan.grid_cols, 7);  // 512x480: 104.5 mm wide, trimmed to 7 patches
+  EXPECT_DOUBLE_EQ(plan.height_mm, 98);
+  ASSERT_EQ(plan.pieces.size(), 49u);
+
+  // The target squares tile the result exactly: no overlap, nothing left out.
+  double area = 0;
+  for (const Piece& a : plan.pieces) {
+    const cv::Rect2d ra(a.target_mm[0], a.target_mm[2]);
+    area += ra.area();
+    for (const Piece& b : plan.pieces) {
+      if (a.id != b.id) {
+        EXPECT_EQ((ra & cv::Rect2d(b.target_mm[0], b.target_mm[2])).area(), 0);
+      }
+    }
+  }
+  EXPECT_NEAR(area, plan.width_mm * plan.height_mm, 1e-6);
+
+  EXPECT_LE(most_pieces_on_a_pixel(plan.pieces, sheets), 1);
+
+  // Every piece lies on usable veneer (scan pixels, 1 px tolerance) and on the sheet.
+  for (const Piece& p : plan.pieces) {
+    const Sheet& s = sheet_named(sheets, p.sheet_id);
+    cv::Mat on = cv::Mat::zeros(s.image.size(), CV_16UC1);
+    rasterise(on, p.source_mm, s.dpi / 25.4, 1.0);
+    for (const auto& c : p.source_mm) {
+      EXPECT_GE(c.x, 0);
+      EXPECT_GE(c.y, 0);
+      EXPECT_LE(c.x, s.image.cols / s.dpi * 25.4);
+      EXPECT_LE(c.y, s.image.rows / s.dpi * 25.4);
+    }
+    cv::Mat off_usable = (on > 0) & (s.usable == 0);
+    EXPECT_EQ(cv::countNonZero(off_usable), 0) << "piece " << p.id << " on " << p.sheet_id;
+  }
+}
+
+// At 0.5 px/mm patches (7x7 px) are correlated directly, at 1 px/mm (14x14) through the DFT.
+class ParquetryResolution : public ::testing::TestWithParam<double> {};
+
+TEST_P(ParquetryResolution, ThePieceCutIsTheWoodShown) {
+  const auto sheets = real_wood(false);
+  Params params = small_params();
+  params.px_per_mm = GetParam();
+  if (params.px_per_mm > 0.5) params.size_mm = 56;  // 4 rows: the DFT path is slower
+  const Plan plan = make_plan(photo("butterfly.jpg"), sheets, Stock{}, params);
+  EXPECT_LE(most_pieces_on_a_pixel(plan.pieces, sheets), 1);
+  int checked = 0;
+  for (const Piece& p : plan.pieces) {
+    const Sheet& s = sheet_named(sheets, p.sheet_id);
+    cv::Mat on = cv::Mat::zeros(s.image.size(), CV_16UC1);
+    rasterise(on, p.source_mm, s.dpi / 25.4, 0.0);
+    const cv::Scalar cut = cv::mean(s.image, on > 0);
+    const double r = params.px_per_mm;  // the reconstruction's pixels per mm
+    const cv::Rect shown_at(cv::Point(cvRound(p.target_mm[0].x * r), cvRound(p.target_mm[0].y * r)),
+                            cv::Point(cvRound(p.target_mm[2].x * r), cvRound(p.target_mm[2].y * r)));
+    const cv::Scalar shown = cv::mean(plan.reconstruction(shown_at));
+    // The preview is the scan resampled to 2 mm pixels and turned: means agree to a few levels.
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(cut[ch], shown[ch], 4.0) << "piece " << p.id;
+    // The piece's edges keep the patch size, turned by the stated angle.
+    EXPECT_NEAR(cv::norm(p.source_mm[1] - p.source_mm[0]), 14.0, 1e-6);
+    const cv::Point2d e = p.source_mm[1] - p.source_mm[0];
+    double turned = std::atan2(-e.y, e.x) * 180 / CV_PI;  // counter-clockwise, y down
+    // A piece laid turned by `rotation_deg` has its top edge horizontal: it was at -rotation.
+    EXPECT_NEAR(std::remainder(turned + p.rotation_deg, 360.0), 0.0, 1e-6) << "piece " << p.id;
+    ++checked;
+  }
+  EXPECT_EQ(checked, params.px_per_mm > 0.5 ? 5 * 4 : 9 * 7);  // 493x356 px
+}
+INSTANTIATE_TEST_SUITE_P(ParquetryCorrelation, ParquetryResolution, ::testing::Values(0.5, 1.0));
+
+TEST(ParquetryPlan, GrainBeatsTheMeanColourBaselines) {
+  const auto sheets = real_wood(false);
+  // Defaults: the wood's grain brings the picture closer than the same wood in flat colours
+  // (the paper's figure 8 baseline).
+  const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, small_params());
+  EXPECT_LT(plan.error, 0.9 * plan.wood_mean_error);
+  // Without the pull towards the wood's gamut (w_hist = 0), it also beats every patch filled
+  // with the photo's own mean colour there.
+  Params p = small_params();
+  p.w_hist = 0;
+  const Plan raw = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+  EXPECT_LT(raw.error, 0.9 * raw.baseline_error);
+  EXPECT_LT(raw.error, raw.wood_mean_error);
+}
+
+TEST(ParquetryPlan, ASecondPlanOnTheStockUsesNoWoodOfTheFirst) {
+  const auto sheets = real_wood(false);
+  const Plan first = make_plan(photo("fruits.jpg"), sheets, Stock{}, small_params());
+  ASSERT_EQ(first.stock.used.size(), sheets.size());
+  const Plan second = make_plan(photo("fruits.jpg"), sheets, first.stock, small_params());
+  std::vector<Piece> both = first.pieces;
+  both.insert(both.end(), second.pieces.begin(), second.pieces.end());
+  EXPECT_LE(most_pieces_on_a_pixel(both, sheets), 1);
+  // The same photo twice: the best wood went to the first plan.
+  double first_cost = 0, second_cost = 0;
+  for (const Piece& p : first.pieces) first_cost += p.cost;
+  for (const Piece& p : second.pieces) second_cost += p.cost;
+  EXPECT_LT(first_cost, second_cost);
+}
+
+TEST(ParquetryPlan, CentreOrderStartsInTheMiddle) {
+  Params p = small_params();
+  p.order = Order::center;
+  const Plan plan = make_plan(photo("HappyFish.jpg"), real_wood(false), Stock{}, p);
+  const cv::Point2d middle(plan.width_mm / 2, plan.height_mm / 2);
+  double last = 0;
+  for (const Piece& piece : plan.pieces) {
+    const cv::Point2d c = (piece.target_mm[0] + piece.target_mm[2]) / 2;
+    const double d = cv::norm(c - middle);
+    EXPECT_GE(d + 1e-9, last) << "piece " << piece.id;
+    last = d;
+  }
+  const cv::Point2d first = (plan.pieces[0].target_mm[0] + plan.pieces[0].target_mm[2]) / 2;
+  EXPECT_LT(cv::norm(first - middle), 14.0);
+}
+
+TEST(ParquetryPlan, AdaptivePatchesSplitOnlyWhenCheaper) {
+  const auto sheets = real_wood(false);
+  Params p;
+  p.size_mm = 56;  // 4 x 4 patches
+  p.adaptive_levels = 2;
+  const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+  // 14 mm patches split into 6 and 8 mm quarters (7 px into 3 + 4 at 0.5 px/mm); those are
+  // not split again: their quarters would be below 5 mm.
+  ASSERT_EQ(plan.splits.size(), 16u);
+  int split = 0;
+  for (const SplitDecision& d : plan.splits) {
+    EXPECT_EQ(d.split, d.quarters_cost < p.adaptive_factor * d.whole_cost);
+    split += d.split;
+  }
+  EXPECT_GT(split, 0);
+  EXPECT_EQ(plan.pieces.size(), 16u + 3u * split);
+  for (const Piece& piece : plan.pieces) {
+    const double edge = cv::norm(piece.source_mm[1] - piece.source_mm[0]);
+    if (piece.level == 0) {
+      EXPECT_NEAR(edge, 14.0, 1e-6);
+    } else {
+      EXPECT_TRUE(std::abs(edge - 6) < 1e-6 || std::abs(edge - 8) < 1e-6) << edge;
+    }
+    EXPECT_LE(piece.level, 1);
+  }
+  EXPECT_LE(most_pieces_on_a_pixel(plan.pieces, sheets), 1);
+
+  p.adaptive_factor = 0;  // nothing is cheaper than nothing
+  const Plan whole = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+  EXPECT_EQ(whole.pieces.size(), 16u);
+  p.adaptive_factor = 1e9;  // always split
+  const Plan quarters = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+  EXPECT_EQ(quarters.pieces.size(), 4u * 16u);
+}
+
+TEST(ParquetryPlan, RunningOutOfWoodSaysHowMuchWasNeeded) {
+  auto sheets = real_wood(false);
+  sheets.resize(1);  // brazilwood_dark: 160 x 160 mm
+  Params big = small_params();
+  big.size_mm = 238;  // 18 x 17 patches
+  try {
+    make_plan(photo("fruits.jpg"), sheets, Stock{}, big);
+    FAIL() << "expected OutOfWood";
+  } catch (const OutOfWood& e) {
+    EXPECT_NEAR(e.free_mm2, 160.0 * 160.0, 1.0);
+    EXPECT_NEAR(e.needed_mm2, 252.0 * 238.0, 1.0);
+    EXPECT_NE(std::string(e.what()).find("out of wood: the plan needs 59976 mm^2 (18x17 patches "
+                                         "of 14 mm) but the sheets have only 25600 mm^2"),
+              std::string::npos)
+        << e.what();
+  }
+  // More area than needed, but used up by fragmenting rotations: still a clear error.
+  Params p = small_params();
+  p.size_mm = 140;
+  sheets = real_wood(false);
+  sheets.resize(1);
+  try {
+    make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+    FAIL() << "expected OutOfWood";
+  } catch (const OutOfWood& e) {
+    EXPECT_NE(std::string(e.what()).find("no free window of 14"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ParquetryPlan, RejectsBadParametersAndStocks) {
+  const auto sheets = real_wood(false);
+  Params p = small_params();
+  p.patch_mm = 4;
+  EXPECT_THROW(make_plan(photo("fruits.jpg"), sheets, Stock{}, p), std::invalid_argument);
+  Stock other;
+  other.px_per_mm = 1.0;
+  other.used[sheets[0].id] = cv::Mat::zeros(160, 160, CV_8UC1);
+  EXPECT_THROW(make_plan(photo("fruits.jpg"), sheets, other, small_params()), std::invalid_argument);
+  EXPECT_EQ(order_from_name("center"), Order::center);
+  EXPECT_THROW(order_from_name("random"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace atelier::parquetry
