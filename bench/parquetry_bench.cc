@@ -20,7 +20,7 @@ using namespace atelier::parquetry;
 
 std::vector<Sheet> wood(int count) {
   const std::filesystem::path dir =
-      std::filesystem::path(ATELIER_TEST_DATA) / "../../../shared/testdata/wood";
+      std::filesystem::path(ATELIER_TEST_DATA) / "wood";
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     if (e.path().extension() == ".png") files.push_back(e.path());

@@ -1,4 +1,4 @@
-// Parquetry plans on the real wood textures (pychess scans, see ../shared/testdata/SOURCES.md):
+// Parquetry plans on the real wood textures (pychess scans, see tests/data/SOURCES.md):
 // every piece on free, usable wood, none sharing wood, the wood shown is the wood cut, and the
 // paper's claims (grain beats flat colour, queue order, adaptive splitting) hold.
 #include <gtest/gtest.h>
@@ -20,7 +20,7 @@ namespace {
 constexpr double kWoodDpi = 25.4;
 
 std::vector<Sheet> real_wood(bool with_holes) {
-  const std::filesystem::path dir = std::filesystem::path(ATELIER_SOURCE_DIR) / "../shared/testdata/wood";
+  const std::filesystem::path dir = std::filesystem::path(ATELIER_TEST_DATA) / "wood";
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     if (e.path().extension() == ".png") files.push_back(e.path());
