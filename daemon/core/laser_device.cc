@@ -106,21 +106,26 @@ bool LaserDevice::run_next() {
   return true;
 }
 
-std::string LaserDevice::read_gcode(int64_t id) const {
+LaserDevice::Connection LaserDevice::connect_for(int64_t id) {
   auto job = jobs_.store().get(id);
   if (!job) throw std::runtime_error("no " + job_tag(id));
-  const fs::path file = fs::path(job->output_dir) / gcode_file_for(job->kind);
+  const std::string file_name = gcode_file_for(job->kind);
+  const fs::path file = fs::path(job->output_dir) / file_name;
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + " cannot be read");
   std::stringstream text;
   text << in.rdbuf();
-  return text.str();
-}
 
-std::unique_ptr<Transport> LaserDevice::open_link() {
   auto port = resolve_();
   if (!port) throw LinkLost("the laser is not connected");
-  return open_(*port);
+  Connection c;
+  c.link = open_(*port);
+  c.session = std::make_unique<grbl::Session>(*c.link, options_.timeouts);
+  c.info = c.session->connect();
+  c.program = grbl::parse_program(text.str(), rapid_rate(c.info));
+  if (auto problem = job_fit_problem(c.program, c.info, file_name))
+    throw grbl::SetupError(*problem + "; nothing was sent");
+  return c;
 }
 
 void LaserDevice::run_frame(int64_t id) {
@@ -140,16 +145,10 @@ void LaserDevice::run_frame(int64_t id) {
   if (stopping()) controls.cancel = true;  // stop() came between the request and now
   set_state("busy", "framing " + job_tag(id) + " (beam off)");
   try {
-    const std::string text = read_gcode(id);
-    auto link = open_link();
-    grbl::Session session(*link, options_.timeouts);
-    const grbl::MachineInfo info = session.connect();
-    const grbl::Program program = grbl::parse_program(text, rapid_rate(info));
-    if (auto problem = job_fit_problem(program, info, gcode_file_for(jobs_.store().get(id)->kind)))
-      throw std::runtime_error(*problem);
-    if (!program.bounds) throw std::runtime_error("the job has no moves to frame");
-    session.frame(*program.bounds, options_.frame_feed_mm_min, controls);
-    link->close();
+    Connection c = connect_for(id);
+    if (!c.program.bounds) throw std::runtime_error("the job has no moves to frame");
+    c.session->frame(*c.program.bounds, options_.frame_feed_mm_min, controls);
+    c.link->close();
     set_last("framed " + job_tag(id) + " with the beam off");
   } catch (const grbl::Canceled&) {
     set_last("framing of " + job_tag(id) + " stopped");
@@ -186,16 +185,11 @@ void LaserDevice::run_job(int64_t id) {
     }
   };
   try {
-    const std::string file = gcode_file_for(jobs_.store().get(id)->kind);
-    const std::string text = read_gcode(id);
-    auto link = open_link();
-    grbl::Session session(*link, options_.timeouts);
-    const grbl::MachineInfo info = session.connect();
-    const grbl::Program program = grbl::parse_program(text, rapid_rate(info));
+    Connection c = connect_for(id);
+    const grbl::Program& program = c.program;
+    grbl::Session& session = *c.session;
     total = program.lines.size();
-    if (auto problem = job_fit_problem(program, info, file))
-      throw grbl::SetupError(*problem + "; nothing was sent");
-    if (info.alarm_locked)
+    if (c.info.alarm_locked)
       throw grbl::SetupError("the controller is locked by an alarm (it may need homing): home it "
                              "or unlock it ($X) at the machine, then retry the job; nothing was sent");
     jobs_.store().set_progress(id, 0, static_cast<int64_t>(total));
@@ -209,7 +203,7 @@ void LaserDevice::run_job(int64_t id) {
     }
     beam_may_fire = true;
     session.stream(program, options_.mode, controls, on_progress);
-    link->close();
+    c.link->close();
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     jobs_.progress(id, static_cast<int64_t>(total), static_cast<int64_t>(total), "done");

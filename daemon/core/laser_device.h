@@ -57,9 +57,16 @@ class LaserDevice : public DeviceWorker {
   void forget_requests() override;
   void run_job(int64_t id);
   void run_frame(int64_t id);
-  // Opens the port and connects (banner, $I, $$). Throws LinkLost or grbl errors.
-  std::unique_ptr<Transport> open_link();
-  std::string read_gcode(int64_t id) const;
+  // A job's G-code on a connected controller, checked against it ($30, travel).
+  struct Connection {
+    std::unique_ptr<Transport> link;         // outlives the session that reads it
+    std::unique_ptr<grbl::Session> session;
+    grbl::MachineInfo info;
+    grbl::Program program;
+  };
+  // Reads the job's G-code, opens the port, connects (banner, $I, $$) and checks the job.
+  // Throws LinkLost, grbl::SetupError (nothing sent) or std::runtime_error (unreadable file).
+  Connection connect_for(int64_t id);
 
   Opener open_;
   LaserOptions options_;
