@@ -198,6 +198,13 @@ void JobService::transition(int64_t id, JobState to, const std::string& reason,
     on_change_({*store_.get(id), state_name(before->state), state_name(to), reason});
 }
 
+void JobService::note(int64_t id, const std::string& reason) {
+  store_.note(id, reason);
+  if (!on_change_) return;
+  auto job = store_.get(id);
+  if (job) on_change_({*job, state_name(job->state), state_name(job->state), reason});
+}
+
 void JobService::progress(int64_t id, int64_t done, int64_t total, const std::string& what) {
   store_.set_progress(id, done, total);
   if (!on_change_) return;

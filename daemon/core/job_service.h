@@ -60,6 +60,9 @@ class JobService {
   // Records progress (no event row; too frequent) and tells the listener, so `watch` shows it.
   void progress(int64_t id, int64_t done, int64_t total, const std::string& what);
 
+  // A new reason without a state change (Store::note), told to the listener like a change.
+  void note(int64_t id, const std::string& reason);
+
   // State changes (each one store transaction, then on_change).
   void transition(int64_t id, JobState to, const std::string& reason,
                   const std::optional<std::string>& device = std::nullopt);

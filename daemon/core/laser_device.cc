@@ -71,8 +71,13 @@ void LaserDevice::resume(int64_t job_id, int from_row) {
                              "` (without --from-row) releases a feed hold, `atelierctl retry " +
                              std::to_string(job_id) + "` runs an interrupted job again from the start");
   std::lock_guard lock(mu_);
+  if (current_ == job_id && controls_ && paused_ && !controls_->hold.load()) {
+    controls_->release_pause.store(true);
+    paused_ = false;
+    return;
+  }
   if (current_ != job_id || !controls_ || !controls_->hold.load())
-    throw std::runtime_error(job_tag(job_id) + " is not held on " + config_.name);
+    throw std::runtime_error(job_tag(job_id) + " is neither held nor paused on " + config_.name);
   controls_->hold.store(false);
 }
 
@@ -163,14 +168,39 @@ void LaserDevice::run_job(int64_t id) {
   OnMachine<grbl::Controls> on_machine(*this, id, controls_);
   grbl::Controls& controls = on_machine.handle();
   if (stopping()) controls.cancel = true;  // stop() came between the claim and now
+  {
+    std::lock_guard lock(mu_);
+    paused_ = false;
+  }
   set_state("busy", job_tag(id));
 
   size_t acked = 0, total = 0;
   bool beam_may_fire = false;  // the real run has started sending
   const auto started = std::chrono::steady_clock::now();
   auto last_report = started - std::chrono::seconds(1);
+  std::string pause_note;  // the program pause (M0) reported last, "" when running
   auto on_progress = [&](const grbl::Progress& p) {
     acked = p.acked;
+    if (p.paused != pause_note) {
+      pause_note = p.paused;
+      {
+        std::lock_guard lock(mu_);
+        paused_ = !pause_note.empty();
+      }
+      const std::string reason =
+          pause_note.empty() ? "resumed after the program pause at " + line_count(p.acked, p.total)
+                             : "paused by the program (M0): " + pause_note + "; `atelierctl resume " +
+                                   std::to_string(id) + "` to continue";
+      set_detail(job_tag(id) + ": " + reason);
+      try {
+        jobs_.note(id, reason);
+      } catch (const std::exception& e) {
+        log::warning("job " + std::to_string(id) + ": pause not recorded: " + e.what());
+      }
+      if (!pause_note.empty()) log::info(job_tag(id) + ": " + reason);
+      if (!pause_note.empty()) return;  // keep the pause in the detail until it ends
+    }
+    if (!pause_note.empty()) return;
     const auto now = std::chrono::steady_clock::now();
     // The store is written at most 5 times a second; the last line always.
     if (p.acked != p.total && now - last_report < std::chrono::milliseconds(200)) return;

@@ -40,7 +40,8 @@ class LaserDevice : public DeviceWorker {
               LaserOptions options = {});
   ~LaserDevice() override;
 
-  // `from_row` must be 0: releases a feed hold on the running job.
+  // `from_row` must be 0: ends a program pause (M0, e.g. a sheet swap) of the running job, or
+  // releases a feed hold on it.
   void resume(int64_t job_id, int from_row) override;
   void hold(int64_t job_id) override;
   // Queues a beam-off trace of a ready job's bounds; the worker runs it when idle. Throws if
@@ -75,6 +76,7 @@ class LaserDevice : public DeviceWorker {
   std::shared_ptr<grbl::Controls> controls_;  // of the job or frame on the machine
   std::optional<int64_t> frame_request_;
   bool framing_ = false;  // the job on the machine is being framed, not run
+  bool paused_ = false;   // the job on the machine waits at a program pause (M0)
 };
 
 }  // namespace atelier

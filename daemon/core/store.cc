@@ -328,6 +328,26 @@ void Store::transition(int64_t id, JobState to, const std::string& reason,
   tx.commit();
 }
 
+void Store::note(int64_t id, const std::string& reason) {
+  std::lock_guard lock(mu_);
+  Transaction tx(db_);
+  std::string state;
+  {
+    Stmt s(db_, "SELECT state FROM jobs WHERE id = ?1");
+    s.bind(1, id);
+    if (!s.step()) fail(db_, "no job " + std::to_string(id));
+    state = s.text(0);
+  }
+  const int64_t at = now_ms();
+  {
+    Stmt s(db_, "UPDATE jobs SET reason = ?1, updated_ms = ?2 WHERE id = ?3");
+    s.bind(1, reason).bind(2, at).bind(3, id);
+    s.run();
+  }
+  insert_event(db_, id, at, state, state, reason);
+  tx.commit();
+}
+
 void Store::set_progress(int64_t id, int64_t done, int64_t total) {
   std::lock_guard lock(mu_);
   if (done < 0 || total < 0) {

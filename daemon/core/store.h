@@ -88,6 +88,10 @@ class Store {
                   const std::optional<std::string>& output_dir = std::nullopt,
                   const std::optional<std::string>& device = std::nullopt);
 
+  // A new reason in the same state (e.g. a running laser job paused by its program), with
+  // an event from the state to itself so the history shows it. Throws StoreError if no job.
+  void note(int64_t id, const std::string& reason);
+
   // Progress does not make an event (it changes too often).
   void set_progress(int64_t id, int64_t done, int64_t total);
 

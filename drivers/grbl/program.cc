@@ -246,6 +246,12 @@ std::string mm(double v) {
   return s;
 }
 
+std::string trim_spaces(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
 }  // namespace
 
 double Program::total_seconds() const { return std::accumulate(seconds.begin(), seconds.end(), 0.0); }
@@ -255,6 +261,7 @@ Program parse_program(std::string_view gcode, double rapid_mm_min) {
   Machine m;
   int line_no = 0;
   bool header = true;  // before the first line that is sent
+  std::string last_comment;  // for the note of a program pause (M0)
   size_t start = 0;
   while (start <= gcode.size()) {
     size_t end = gcode.find('\n', start);
@@ -266,6 +273,7 @@ Program parse_program(std::string_view gcode, double rapid_mm_min) {
     if (raw.empty() && start > gcode.size()) break;  // the final newline ends the file
 
     Stripped s = strip(raw, line_no);
+    if (!s.comment.empty()) last_comment = trim_spaces(s.comment);
     if (s.code.empty() || s.code == "%") {
       if (header && !s.comment.empty()) read_header(s.comment, line_no, p);
       continue;
@@ -276,7 +284,10 @@ Program parse_program(std::string_view gcode, double rapid_mm_min) {
                         std::to_string(s.code.size()) + "); GRBL's line buffer would overflow (error:11)");
     if (s.code.front() == '$')
       fail(line_no, "'" + s.code + "' is a GRBL system command; jobs may only contain G-code (send settings separately)");
-    p.seconds.push_back(run(m, words(s.code), rapid_mm_min));
+    const std::vector<Word> ws = words(s.code);
+    if (std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'M' && is(w.value, 0); }))
+      p.pauses[p.lines.size()] = last_comment;
+    p.seconds.push_back(run(m, ws, rapid_mm_min));
     p.lines.push_back(std::move(s.code));
     p.source_line.push_back(line_no);
     p.source_text.emplace_back(raw);

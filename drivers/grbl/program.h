@@ -4,6 +4,7 @@
 // traces that area with the beam off. Pure, thread-safe. Units: mm, mm/min, seconds.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -33,6 +34,11 @@ struct Program {
   // X/Y target and arc (G20 inches converted, G91 followed); empty if nothing moves.
   std::optional<Bounds> bounds;
   std::vector<double> seconds;  // estimated duration of lines[i]: G1/G2/G3 at F, G0 at rapid, G4 P
+  // Program pauses: index into `lines` of each line with M0 (GRBL finishes the motion before
+  // it, holds, and answers that line only after a cycle start '~'), with the text of the last
+  // comment before it in the source (trimmed; "" if none), which tells the operator what to
+  // do (e.g. "sheet oak-1: place it face down at the origin, then resume").
+  std::map<size_t, std::string> pauses;
   double total_seconds() const;
 };
 

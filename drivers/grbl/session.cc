@@ -349,6 +349,17 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
 
   bool hold_sent = false;
   bool resume_polled = false;  // a '?' went out since the last '~'
+  // The M0 line GRBL is pausing at (paused) and the last pause released, which a report
+  // asked for before the '~' may still show as held.
+  std::optional<size_t> paused_at, released_at;
+  const auto at_program_pause = [&]() -> std::optional<size_t> {
+    if (in_flight.empty() || !p.pauses.count(in_flight.front()) || released_at == in_flight.front())
+      return std::nullopt;
+    const Status& s = last_status_;
+    const bool planner_empty = s.planner_free < 0 || s.planner_free >= info_.planner_blocks;
+    if (s.state == "Hold" && s.substate == 0 && planner_empty) return in_flight.front();
+    return std::nullopt;
+  };
   bool done_polled = false;    // a '?' went out after the last ok
   Clock::time_point last_ack = Clock::now();
   Clock::time_point last_poll{};
@@ -366,6 +377,13 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
       write_byte(want_hold ? '!' : '~');
       hold_sent = want_hold;
       resume_polled = false;
+    }
+    if (c.release_pause.exchange(false) && paused_at) {
+      write_byte('~');  // GRBL is at Hold:0, where a cycle start is always taken
+      released_at = paused_at;
+      paused_at.reset();
+      prog.paused.clear();
+      report(true);
     }
     while (next_line < n) {
       const size_t bytes = p.lines[next_line].size() + 1;
@@ -426,9 +444,17 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
           report(true);
           return;
         }
+        if (auto pause = at_program_pause(); pause && !paused_at) {
+          paused_at = pause;
+          const std::string& note = p.pauses.at(*pause);
+          prog.paused = note.empty() ? "M0" : note;
+          report(true);
+          break;
+        }
         // GRBL takes '~' only once a hold is complete: a resume sent during the deceleration
-        // is dropped, so say it again while the machine still reports a hold.
-        if (!hold_sent && resume_polled && last_status_.state == "Hold") {
+        // is dropped, so say it again while the machine still reports a hold (not a program
+        // pause: that one waits for the operator).
+        if (!hold_sent && resume_polled && last_status_.state == "Hold" && !paused_at) {
           write_byte('~');
           resume_polled = false;
         }

@@ -53,11 +53,17 @@ struct Progress {
   size_t acked = 0, total = 0;  // program lines acknowledged / in the program
   double seconds_left = 0;      // estimate from Program::seconds and the planner fill
   Status status;                // the last status report (MPos)
+  // While GRBL holds at a program pause (M0): that pause's note (Program::pauses; "M0" when
+  // the source has no comment before it). Empty otherwise.
+  std::string paused;
 };
 
 struct Controls {
   std::atomic<bool> cancel{false};  // set from any thread
   std::atomic<bool> hold{false};    // true: feed hold ('!'); back to false: resume ('~')
+  // Set from any thread to end a program pause (M0) with a cycle start ('~'); the session
+  // clears it when it has sent the '~'. Ignored (and cleared) when no pause is under way.
+  std::atomic<bool> release_pause{false};
 };
 
 // GRBL refused a line. what(): "line 12 (G1X500Y10F600): error:33 invalid target: ..."
@@ -129,6 +135,10 @@ class Session {
   // the operator), banner, M5, then Canceled. Nothing received for timeouts.silent: Silent.
   // Idle with lines unacknowledged for 5 s (a lost ok): hold, reset, std::runtime_error.
   // Any other unexpected exception: hold and reset before it propagates.
+  // Program pause (M0): GRBL reports Hold:0 with the M0 line unanswered and its planner empty.
+  // That is neither a fault nor a hold to repeat '~' for: the session keeps polling, reports
+  // Progress::paused at once, and sends '~' only for Controls::release_pause (or a hold/resume
+  // of the operator's own).
   void stream(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress);
 
   // Traces the bounds with the beam off (frame_program) at feed_mm_min; waits for Idle.
