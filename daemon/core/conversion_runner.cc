@@ -47,6 +47,11 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
     args.push_back("--set");
     args.push_back(s);
   }
+  for (const auto& [input, output] : task.together) {
+    args.push_back("--with");
+    args.push_back(input.string());
+    args.push_back(output.string());
+  }
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "daemon/convert/image_input.h"
@@ -25,6 +26,10 @@ struct ConversionTask {
   std::filesystem::path output_dir;   // work/<id>/
   std::string defaults_toml;          // the config's [kind] table as TOML text
   std::vector<std::string> sets;      // "key=value" overrides of the job
+  // Further targets planned in the same conversion (parquetry, paper 4.2): input and output
+  // folder of each, passed as `--with INPUT OUTPUT_DIR`. Their sidecars are not read: the
+  // scheduler only batches jobs whose own overrides equal the first job's.
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> together;
   ImageLimits limits;
   std::chrono::seconds timeout{600};
 };

@@ -1,0 +1,175 @@
+// Parquetry jobs queued together are planned together (paper 4.2): one conversion with a
+// `--with` target per extra job, all moving through converting -> ready (or failed) at once;
+// jobs with other overrides, or of other kinds, are converted on their own. A canceled batch
+// job ends canceled and the others are converted again; a stopped batch is re-queued whole.
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "daemon/core/scheduler.h"
+#include "tests/e2e/daemon_harness.h"
+
+namespace fs = std::filesystem;
+using namespace atelier;
+
+namespace {
+
+// Records every task; each run waits until released (or canceled), then ends as scripted.
+class FakeRunner : public ConversionRunner {
+ public:
+  ConversionOutcome run(const ConversionTask& task, const std::function<void(double)>& progress,
+                        const std::atomic<bool>& cancel) override {
+    progress(0.5);  // before the task shows: a test that sees the task sees the progress
+    {
+      std::lock_guard lock(mu_);
+      tasks_.push_back(task);
+      ++running_;
+    }
+    cv_.notify_all();
+    std::unique_lock lock(mu_);
+    while (!released_ && !cancel.load()) cv_.wait_for(lock, std::chrono::milliseconds(10));
+    --running_;
+    if (cancel.load() && !released_) return {ConversionOutcome::Status::canceled, "canceled"};
+    if (fail_) return {ConversionOutcome::Status::failed, "wood.png: out of wood: needs 900 mm^2"};
+    for (const auto& [input, output] : task.together) std::ofstream(output / "plan.json") << "{}";
+    std::ofstream(task.output_dir / "plan.json") << "{}";
+    return {ConversionOutcome::Status::ok, ""};
+  }
+  bool wait_tasks(size_t n) {
+    std::unique_lock lock(mu_);
+    return cv_.wait_for(lock, std::chrono::seconds(10), [&] { return tasks_.size() >= n && running_ > 0; });
+  }
+  void release(bool fail = false) {
+    std::lock_guard lock(mu_);
+    released_ = true;
+    fail_ = fail;
+  }
+  std::vector<ConversionTask> tasks() {
+    std::lock_guard lock(mu_);
+    return tasks_;
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<ConversionTask> tasks_;
+  int running_ = 0;
+  bool released_ = false, fail_ = false;
+};
+
+struct Rig {
+  test::TempDir tmp;
+  SpoolLayout layout{tmp.path() / "spool"};
+  Store store{tmp.path() / "jobs.sqlite"};
+  JobService jobs{store, layout, nullptr};
+  FakeRunner runner;
+  std::shared_ptr<const Config> config;
+  Scheduler scheduler{jobs, runner, [this] { return config; }};
+
+  Rig() {
+    jobs.ensure_layout();
+    config = std::make_shared<const Config>(parse_config("[spool]\ndir = \"/x\"\n", "t.toml"));
+    scheduler.set_device_hooks([](const Job& j) { return j.kind == "parquetry" ? std::string("laser") : ""; },
+                               nullptr);
+  }
+  int64_t drop(const std::string& kind, const std::string& name, const std::string& sidecar = "") {
+    if (!sidecar.empty()) test::write_file(layout.incoming(kind) / (name + ".toml"), sidecar);
+    test::write_file(layout.incoming(kind) / name, "image " + name);
+    const int64_t id = *jobs.claim(layout.incoming(kind) / name);
+    scheduler.enqueue(id);
+    return id;
+  }
+  JobState state(int64_t id) { return store.get(id)->state; }
+  bool wait_state(int64_t id, JobState s) {
+    for (int i = 0; i < 500; ++i) {
+      if (state(id) == s) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+};
+
+TEST(SchedulerBatch, QueuedParquetryJobsArePlannedInOneConversion) {
+  Rig rig;
+  const int64_t a = rig.drop("parquetry", "a.jpg");
+  const int64_t b = rig.drop("parquetry", "b.jpg");
+  const int64_t knit = rig.drop("knit", "k.png");
+  const int64_t c = rig.drop("parquetry", "c.jpg");
+  const int64_t other = rig.drop("parquetry", "d.jpg", "size_mm = 100\n");  // own overrides
+  rig.scheduler.start(1);
+  ASSERT_TRUE(rig.runner.wait_tasks(1));
+  // a, b and c convert together; the knit job and d (other overrides) wait their turn.
+  EXPECT_EQ(rig.state(a), JobState::converting);
+  EXPECT_EQ(rig.state(b), JobState::converting);
+  EXPECT_EQ(rig.state(c), JobState::converting);
+  EXPECT_EQ(rig.state(knit), JobState::queued);
+  EXPECT_EQ(rig.state(other), JobState::queued);
+  auto task = rig.runner.tasks().front();
+  EXPECT_EQ(task.job_id, a);
+  ASSERT_EQ(task.together.size(), 2u);
+  EXPECT_EQ(task.together[0].first, rig.layout.work(b) / "b.jpg");
+  EXPECT_EQ(task.together[0].second, rig.layout.work(b));
+  EXPECT_EQ(task.together[1].second, rig.layout.work(c));
+  EXPECT_EQ(task.timeout, std::chrono::seconds(600 * 3));
+  EXPECT_EQ(rig.store.get(b)->progress_done, 50);  // progress reaches every job of the batch
+
+  rig.runner.release();
+  for (int64_t id : {a, b, c}) {
+    ASSERT_TRUE(rig.wait_state(id, JobState::ready)) << id;
+    EXPECT_TRUE(fs::exists(rig.layout.done(id) / "plan.json")) << id;  // each its own outputs
+  }
+  ASSERT_TRUE(rig.wait_state(other, JobState::ready));
+  ASSERT_TRUE(rig.wait_state(knit, JobState::completed));
+  const auto tasks = rig.runner.tasks();
+  ASSERT_EQ(tasks.size(), 3u);
+  for (size_t i = 1; i < tasks.size(); ++i) EXPECT_TRUE(tasks[i].together.empty());
+  rig.scheduler.stop();
+}
+
+TEST(SchedulerBatch, AFailedBatchFailsEveryJobWithTheSameReason) {
+  Rig rig;
+  const int64_t a = rig.drop("parquetry", "a.jpg");
+  const int64_t b = rig.drop("parquetry", "b.jpg");
+  rig.scheduler.start(1);
+  ASSERT_TRUE(rig.runner.wait_tasks(1));
+  rig.runner.release(true);
+  for (int64_t id : {a, b}) {
+    ASSERT_TRUE(rig.wait_state(id, JobState::failed)) << id;
+    EXPECT_EQ(rig.store.get(id)->reason, "wood.png: out of wood: needs 900 mm^2");
+    EXPECT_TRUE(fs::exists(rig.layout.failed(id) / (id == a ? "a.jpg" : "b.jpg")));
+  }
+  rig.scheduler.stop();
+}
+
+TEST(SchedulerBatch, CancelingOneJobConvertsTheOthersAgain) {
+  Rig rig;
+  const int64_t a = rig.drop("parquetry", "a.jpg");
+  const int64_t b = rig.drop("parquetry", "b.jpg");
+  rig.scheduler.start(1);
+  ASSERT_TRUE(rig.runner.wait_tasks(1));
+  ASSERT_TRUE(rig.scheduler.cancel(b));
+  ASSERT_TRUE(rig.wait_state(b, JobState::canceled));
+  ASSERT_TRUE(rig.runner.wait_tasks(2));  // a alone, at once
+  EXPECT_EQ(rig.runner.tasks()[1].job_id, a);
+  EXPECT_TRUE(rig.runner.tasks()[1].together.empty());
+  rig.runner.release();
+  EXPECT_TRUE(rig.wait_state(a, JobState::ready));
+  rig.scheduler.stop();
+}
+
+TEST(SchedulerBatch, AStoppedBatchIsQueuedAgainWholeAndRecovered) {
+  Rig rig;
+  const int64_t a = rig.drop("parquetry", "a.jpg");
+  const int64_t b = rig.drop("parquetry", "b.jpg");
+  rig.scheduler.start(1);
+  ASSERT_TRUE(rig.runner.wait_tasks(1));
+  rig.scheduler.stop();
+  EXPECT_EQ(rig.state(a), JobState::queued);
+  EXPECT_EQ(rig.state(b), JobState::queued);
+  EXPECT_EQ(rig.jobs.recover(), (std::vector<int64_t>{a, b}));
+}
+
+}  // namespace
