@@ -183,14 +183,28 @@ int main(int argc, char** argv) {
   add_id(frame);
   auto* wood = app.add_subcommand("wood", "the workshop's veneer stock (parquetry)");
   wood->require_subcommand(1);
-  auto* wood_list = wood->add_subcommand("list", "veneer sheets in stock");
+  std::string wood_mask, wood_job;
+  double wood_dpi = 0;
+  bool wood_force = false;
+  auto* wood_list = wood->add_subcommand("list", "veneer sheets: size, usable, used and free wood, jobs");
   add_json(wood_list);
-  auto* wood_add = wood->add_subcommand("add", "add a scanned veneer sheet");
-  wood_add->add_option("FILE", file, "scan of the sheet")->required()->check(CLI::ExistingFile);
-  add_sets(wood_add);
-  auto* wood_remove = wood->add_subcommand("remove", "remove a sheet from the stock");
-  wood_remove->add_option("WOOD_ID", wood_id, "sheet id")->required();
-  auto* wood_reset = wood->add_subcommand("reset", "forget all sheets");
+  auto* wood_add = wood->add_subcommand("add", "add a scanned veneer sheet to the wood library");
+  wood_add->add_option("IMAGE", file, "scan of the sheet")->required()->check(CLI::ExistingFile);
+  wood_add->add_option("--id", wood_id, "sheet id (default: the file's stem)");
+  wood_add->add_option("--dpi", wood_dpi, "resolution of the scan (default: [parquetry] dpi)")
+      ->check(CLI::PositiveNumber);
+  wood_add->add_option("--mask", wood_mask, "mask of the usable veneer (white = usable)")
+      ->check(CLI::ExistingFile);
+  add_json(wood_add);
+  auto* wood_remove = wood->add_subcommand("remove", "remove a sheet from the wood library");
+  wood_remove->add_option("ID", wood_id, "sheet id")->required();
+  wood_remove->add_flag("--force", wood_force, "even while planned pieces are recorded on it");
+  add_json(wood_remove);
+  auto* wood_reset = wood->add_subcommand(
+      "reset", "forget used wood: of one sheet (ID), of one job (--job), or all");
+  wood_reset->add_option("ID", wood_id, "only this sheet");
+  wood_reset->add_option("--job", wood_job, "only the pieces of this job")->check(integer_at_least(1));
+  add_json(wood_reset);
 
   try {
     app.parse(argc, argv);
@@ -230,14 +244,20 @@ int main(int argc, char** argv) {
       cmd.render = atelier::ctl::format_devices;
     } else if (wood->parsed()) {
       cmd.verb = "wood";
+      cmd.render = atelier::ctl::format_wood;
       if (wood_list->parsed()) {
         cmd.args = {{"action", "list"}};
       } else if (wood_add->parsed()) {
-        cmd.args = {{"action", "add"}, {"path", absolute_path(file)}, {"set", sets}};
+        cmd.args = {{"action", "add"}, {"image", absolute_path(file)}};
+        if (!wood_id.empty()) cmd.args["id"] = wood_id;
+        if (wood_dpi > 0) cmd.args["dpi"] = wood_dpi;
+        if (!wood_mask.empty()) cmd.args["mask"] = absolute_path(wood_mask);
       } else if (wood_remove->parsed()) {
-        cmd.args = {{"action", "remove"}, {"id", wood_id}};
+        cmd.args = {{"action", "remove"}, {"id", wood_id}, {"force", wood_force}};
       } else if (wood_reset->parsed()) {
         cmd.args = {{"action", "reset"}};
+        if (!wood_id.empty()) cmd.args["id"] = wood_id;
+        if (!wood_job.empty()) cmd.args["job"] = wood_job;
       }
     }
   } catch (const std::filesystem::filesystem_error& e) {

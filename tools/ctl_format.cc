@@ -365,3 +365,40 @@ std::string format_value(const json& value) {
 }
 
 }  // namespace atelier::ctl
+
+namespace atelier::ctl {
+namespace {
+
+std::string fixed(double v, int decimals) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+double number(const json& o, const char* key) {
+  return o.is_object() && o.contains(key) && o[key].is_number() ? o[key].get<double>() : 0.0;
+}
+
+}  // namespace
+
+std::string format_wood(const json& result) {
+  if (!result.is_object() || !result.contains("sheets")) return format_value(result);
+  std::string out;
+  if (result.contains("done")) out += text(result, "done") + "\n";
+  const json& sheets = result["sheets"];
+  if (!sheets.is_array() || sheets.empty()) return out + "no veneer sheets\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const json& s : sheets) {
+    std::string size = "-";
+    if (s.contains("size_mm") && s["size_mm"].is_array() && s["size_mm"].size() == 2)
+      size = fixed(s["size_mm"][0].get<double>(), 0) + "x" + fixed(s["size_mm"][1].get<double>(), 0);
+    std::string jobs;
+    if (s.contains("jobs") && s["jobs"].is_array())
+      for (const json& j : s["jobs"]) jobs += (jobs.empty() ? "" : ",") + (j.is_string() ? j.get<std::string>() : j.dump());
+    rows.push_back({text(s, "id"), size, fixed(number(s, "dpi"), 1), fixed(number(s, "used_pct"), 1) + " %",
+                    fixed(number(s, "free_mm2"), 0), text(s, "pieces"), or_dash(jobs)});
+  }
+  return out + table({{"ID"}, {"SIZE_MM"}, {"DPI"}, {"USED"}, {"FREE_MM2"}, {"PIECES"}, {"JOBS"}}, rows);
+}
+
+}  // namespace atelier::ctl

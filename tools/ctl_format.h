@@ -32,7 +32,10 @@ std::string format_devices(const nlohmann::json& devices);
 std::string format_event(const nlohmann::json& event);
 // A verb that returns one job (submit, start, cancel, retry, resume): "job 12 cat.jpg: queued".
 std::string format_job_line(const nlohmann::json& job);
-// Anything else (frame, wood): strings as is, arrays of objects as a table, objects as
+// `wood`: what was done (if anything), then the sheets as an aligned table ID SIZE_MM DPI
+// USED FREE_MM2 PIECES JOBS, or "no veneer sheets".
+std::string format_wood(const nlohmann::json& result);
+// Anything else (frame): strings as is, arrays of objects as a table, objects as
 // key: value lines, other values as JSON.
 std::string format_value(const nlohmann::json& value);
 

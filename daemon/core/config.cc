@@ -72,6 +72,27 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   return d;
 }
 
+// An absolute path string for a path given relative to the config file's folder.
+void make_absolute(toml::table& t, const std::string& key, const std::filesystem::path& base) {
+  if (auto v = t[key].value_exact<std::string>(); v && !v->empty() && std::filesystem::path(*v).is_relative())
+    t.insert_or_assign(key, (base / *v).lexically_normal().string());
+}
+
+// The daemon's own wood library and stock under the state folder, unless the config says
+// otherwise (see Config::state_dir()).
+void place_parquetry_wood(toml::table& t, const std::filesystem::path& base, const std::filesystem::path& state) {
+  if (!t.contains("wood")) t.insert("wood", (state / "wood").string());
+  if (!t.contains("stock")) t.insert("stock", (state / "wood-stock").string());
+  make_absolute(t, "wood", base);
+  make_absolute(t, "stock", base);
+  if (toml::array* list = t["wood"].as_array())
+    for (auto& sheet : *list)
+      if (toml::table* s = sheet.as_table()) {
+        make_absolute(*s, "image", base);
+        make_absolute(*s, "mask", base);
+      }
+}
+
 Config from_table(const toml::table& root, const std::string& source) {
   Config c;
   c.source = source;
@@ -142,6 +163,8 @@ Config from_table(const toml::table& root, const std::string& source) {
   const auto base = std::filesystem::path(source).parent_path();
   for (auto* p : {&c.spool_dir, &c.store_path, &c.socket_path})
     if (p->is_relative()) *p = base / *p;
+  if (auto it = c.kind_defaults.find("parquetry"); it != c.kind_defaults.end())
+    place_parquetry_wood(it->second, base, c.state_dir());
   return c;
 }
 

@@ -47,6 +47,13 @@ struct Config {
 
   // [store]
   std::filesystem::path store_path = "/var/lib/atelier/jobs.sqlite";
+  // The daemon's state folder: the store's folder (/var/lib/atelier, systemd's
+  // StateDirectory). Parquetry keeps the workshop's wood library in <state>/wood and the used
+  // wood in <state>/wood-stock: `[parquetry] wood` defaults to the former (a config `wood`
+  // wins), `stock` to the latter (a config `stock` wins). Relative `wood`, `stock` and sheet
+  // image/mask paths in [parquetry] are made absolute against the config file's folder, since
+  // the conversion reads them from its standard input.
+  std::filesystem::path state_dir() const { return store_path.parent_path(); }
 
   // [control]
   std::filesystem::path socket_path = "/run/atelier/control.sock";

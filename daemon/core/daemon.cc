@@ -18,6 +18,7 @@
 #include "daemon/core/job_json.h"
 #include "daemon/core/knit_device.h"
 #include "daemon/core/laser_device.h"
+#include "daemon/core/wood_service.h"
 #include "drivers/serial_transport.h"
 #include "drivers/usb_device.h"
 #include "daemon/core/log.h"
@@ -66,6 +67,9 @@ Daemon::Daemon(fs::path config_file, Config initial)
     control_->publish(event);
   });
   jobs_->ensure_layout();
+  // Parquetry's wood library and stock of used wood (Config::state_dir()).
+  fs::create_directories(c.state_dir() / "wood");
+  fs::create_directories(c.state_dir() / "wood-stock");
   runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
   scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
   for (const DeviceConfig& d : c.devices) {
@@ -311,9 +315,30 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     return job_to_json(*store_->get(id));
   }
   if (verb == "devices") return devices_json();
-  if (verb == "wood")
-    throw ControlError("the veneer stock belongs to parquetry jobs, which this build does not convert");
+  if (verb == "wood") return wood(args);
   throw ControlError("unknown verb '" + verb + "'");
+}
+
+nlohmann::json Daemon::wood(const nlohmann::json& args) {
+  auto c = config();
+  auto it = c->kind_defaults.find("parquetry");
+  if (it == c->kind_defaults.end())
+    throw ControlError("the veneer stock belongs to parquetry jobs, which this build does not convert");
+  WoodPlaces places;
+  places.parquetry = it->second;
+  places.source = c->source.string();
+  if (auto stock = it->second["stock"].value<std::string>(); stock && !stock->empty()) places.stock = *stock;
+  places.limits = c->limits;
+  std::string busy;
+  for (int64_t id : scheduler_->converting_ids())
+    if (auto job = store_->get(id); job && job->kind == "parquetry")
+      busy += (busy.empty() ? "job " : ", ") + std::to_string(id);
+  places.busy_hint = busy.empty() ? "" : busy + " being planned";
+  try {
+    return wood_request(places, args);
+  } catch (const WoodError& e) {
+    throw ControlError(e.what());
+  }
 }
 
 void Daemon::reload() {

@@ -37,6 +37,7 @@ class Daemon {
  private:
   nlohmann::json handle(const std::string& verb, const nlohmann::json& args);
   nlohmann::json status();
+  nlohmann::json wood(const nlohmann::json& args);  // the `wood` verb (wood_service.h)
   nlohmann::json devices_json() const;
   Device* device_for(const Job& job) const;
   Device& device_of_job(int64_t id);

@@ -104,7 +104,8 @@ TEST(Config, ALaserWaitsForTheOperatorAndTakesOnlyLaserKinds) {
       "port = \"/dev/ttyUSB0\"\n", "a.toml");
   ASSERT_EQ(c.devices.size(), 1u);
   EXPECT_FALSE(c.devices[0].autostart);
-  EXPECT_EQ(c.devices[0].kinds, std::vector<std::string>{"cut"});
+  // Every laser kind this build converts.
+  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"cut", "parquetry"}));
   EXPECT_EQ(c.devices[0].streaming, "character-counting");
   EXPECT_FALSE(c.laser_check_first);
 
