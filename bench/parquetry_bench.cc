@@ -46,7 +46,7 @@ cv::Mat target(int cols, int rows) {
   return m;
 }
 
-// Args: patch columns, patch rows, sheets, rotations.
+// Args: patch columns, patch rows, sheets, rotations, shapes (0 regular, 1 morphed, 2 dp).
 void BM_ParquetryPlan(benchmark::State& state) {
   const int cols = static_cast<int>(state.range(0)), rows = static_cast<int>(state.range(1));
   const auto sheets = wood(static_cast<int>(state.range(2)));
@@ -54,6 +54,9 @@ void BM_ParquetryPlan(benchmark::State& state) {
   Params p;
   p.rotations = static_cast<int>(state.range(3));
   p.size_mm = std::min(cols, rows) * p.patch_mm;
+  const int shapes = state.range(4);
+  if (shapes == 1) p.grid = Grid::morphed;
+  if (shapes == 2) p.refine = Refine::dp;
   double area = 0;
   for (const Sheet& s : sheets) area += s.image.cols * s.image.rows;  // 1 px = 1 mm^2
   std::size_t pieces = 0;
@@ -68,16 +71,18 @@ void BM_ParquetryPlan(benchmark::State& state) {
   state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " patches of 14 mm, " +
                  std::to_string(p.rotations) + " rotations, " + std::to_string(sheets.size()) +
                  " sheets (" + std::to_string(area / 1e6).substr(0, 4) + " m^2) at " +
-                 std::to_string(p.px_per_mm).substr(0, 4) + " px/mm, " +
+                 std::to_string(p.px_per_mm).substr(0, 4) + " px/mm, " + grid_name(p.grid) + "/" + refine_name(p.refine) + ", " +
                  std::to_string(cv::getNumThreads()) + " threads");
   state.counters["pieces"] = static_cast<double>(pieces);
   state.counters["ms_per_patch"] =
       1000.0 * seconds / static_cast<double>(state.iterations()) / static_cast<double>(pieces);
 }
 BENCHMARK(BM_ParquetryPlan)
-    ->Args({28, 17, 12, 15})  // the target
-    ->Args({14, 9, 12, 15})   // a quarter of the patches
-    ->Args({14, 9, 6, 15})    // and half the wood
+    ->Args({28, 17, 12, 15, 0})  // the target
+    ->Args({14, 9, 12, 15, 0})   // a quarter of the patches
+    ->Args({14, 9, 6, 15, 0})    // and half the wood
+    ->Args({28, 17, 12, 15, 1})  // the target on a morphed grid
+    ->Args({20, 12, 12, 15, 2})  // dp cuts: windows 1.7x the patch area, so fewer patches fit
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);

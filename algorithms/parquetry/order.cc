@@ -9,8 +9,8 @@
 
 namespace atelier::parquetry {
 
-std::vector<int> patch_order(const cv::Mat& target, int cols, int rows, int patch, Order order,
-                             std::uint64_t seed) {
+std::vector<double> patch_priority(const cv::Mat& target, int cols, int rows, int patch,
+                                   Order order) {
   std::vector<double> priority(static_cast<std::size_t>(cols) * rows);
   if (order == Order::saliency) {
     cv::Ptr<cv::saliency::StaticSaliencyFineGrained> method =
@@ -23,17 +23,24 @@ std::vector<int> patch_order(const cv::Mat& target, int cols, int rows, int patc
     map.convertTo(map32, CV_64F);
     for (int r = 0; r < rows; ++r) {
       for (int c = 0; c < cols; ++c) {
-        priority[r * cols + c] = -cv::sum(map32(cv::Rect(c * patch, r * patch, patch, patch)))[0];
+        priority[r * cols + c] =
+            -cv::mean(map32(cv::Rect(c * patch, r * patch, patch, patch)))[0] * (map.depth() == CV_8U ? 1.0 : 255.0);
       }
     }
   } else {
     const double cx = cols / 2.0, cy = rows / 2.0;
     for (int r = 0; r < rows; ++r) {
       for (int c = 0; c < cols; ++c) {
-        priority[r * cols + c] = std::hypot(c + 0.5 - cx, r + 0.5 - cy);
+        priority[r * cols + c] = std::hypot(c + 0.5 - cx, r + 0.5 - cy) / std::hypot(cx, cy);
       }
     }
   }
+  return priority;
+}
+
+std::vector<int> patch_order(const cv::Mat& target, int cols, int rows, int patch, Order order,
+                             std::uint64_t seed) {
+  const std::vector<double> priority = patch_priority(target, cols, rows, patch, order);
   std::vector<int> cells(priority.size());
   std::iota(cells.begin(), cells.end(), 0);
   std::mt19937_64 rng(seed);

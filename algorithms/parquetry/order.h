@@ -11,6 +11,13 @@
 
 namespace atelier::parquetry {
 
+// Priority of every cell (row * cols + col) of a cols x rows grid of patch x patch pixel
+// cells over `target`: lower first. Saliency: minus the mean fine-grained saliency (0..255)
+// of the cell, so scores of several targets compare; center: distance to the centre in
+// cells, relative to half the grid's diagonal (0..1).
+std::vector<double> patch_priority(const cv::Mat& target, int cols, int rows, int patch,
+                                   Order order);
+
 // Cell indices (row * cols + col) of a cols x rows grid of patch x patch pixel cells over
 // `target` (CV_8UC3 or CV_8UC1, at least cols*patch x rows*patch), in processing order.
 // Equal priorities are ordered by a shuffle seeded with `seed`.

@@ -14,6 +14,22 @@ Order order_from_name(const std::string& name) {
                               "'");
 }
 
+const char* grid_name(Grid grid) { return grid == Grid::morphed ? "morphed" : "regular"; }
+
+Grid grid_from_name(const std::string& name) {
+  if (name == "regular") return Grid::regular;
+  if (name == "morphed") return Grid::morphed;
+  throw std::invalid_argument("parquetry: grid must be 'regular' or 'morphed', not '" + name + "'");
+}
+
+const char* refine_name(Refine refine) { return refine == Refine::dp ? "dp" : "none"; }
+
+Refine refine_from_name(const std::string& name) {
+  if (name == "none") return Refine::none;
+  if (name == "dp") return Refine::dp;
+  throw std::invalid_argument("parquetry: refine must be 'none' or 'dp', not '" + name + "'");
+}
+
 void validate(const Params& p) {
   auto fail = [](const std::string& what) {
     throw std::invalid_argument("parquetry: " + what);
@@ -34,6 +50,25 @@ void validate(const Params& p) {
   if (p.rotations < 1 || p.rotations > 360) fail("rotations must be in [1, 360]");
   if (p.adaptive_levels < 0 || p.adaptive_levels > 4) fail("adaptive_levels must be in [0, 4]");
   if (!(p.adaptive_factor >= 0)) fail("adaptive_factor must be >= 0");
+  if (!(p.kerf_mm >= 0 && p.kerf_mm <= 2)) fail("kerf_mm must be in [0, 2]");
+  if (!(p.min_feature_mm > 0 && p.min_feature_mm <= kMinPatchMm)) {
+    fail("min_feature_mm must be in (0, 5]");
+  }
+  if (!(p.overlap > 0 && p.overlap <= 0.5)) fail("overlap must be in (0, 0.5]");
+  if (p.grid == Grid::morphed && p.refine == Refine::dp) {
+    fail("grid = morphed and refine = dp are alternatives (paper 3.4); choose one");
+  }
+  if (p.adaptive_levels > 0 && (p.grid != Grid::regular || p.refine != Refine::none)) {
+    fail("adaptive_levels needs the regular grid without refinement");
+  }
+  if (p.refine == Refine::dp) {
+    const int patch = static_cast<int>(std::lround(p.patch_mm * p.px_per_mm));
+    const int half = std::max(1, static_cast<int>(std::lround(p.overlap * patch / 2)));
+    if ((patch - 2 * half) / p.px_per_mm < kMinPatchMm - 1e-9) {
+      fail("refine = dp needs patch_mm large enough that the part of a patch outside the "
+           "overlaps stays at least 5 mm (raise patch_mm or px_per_mm, or lower overlap)");
+    }
+  }
 }
 
 }  // namespace atelier::parquetry

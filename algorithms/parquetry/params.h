@@ -15,6 +15,18 @@ enum class Order { saliency, center };
 const char* order_name(Order order);                 // "saliency", "center"
 Order order_from_name(const std::string& name);      // throws std::invalid_argument
 
+// Patch shapes (paper 3.4): a regular grid of squares, or the grid morphed a priori to the
+// target's edges (eq. 5-7). The two refinements are alternatives, as in the paper.
+enum class Grid { regular, morphed };
+const char* grid_name(Grid grid);                    // "regular", "morphed"
+Grid grid_from_name(const std::string& name);
+
+// A-posteriori cut refinement (paper 3.4, eq. 8-9): none, or dynamic-programming cuts in
+// the overlaps of enlarged patches (regular grid only).
+enum class Refine { none, dp };
+const char* refine_name(Refine refine);              // "none", "dp"
+Refine refine_from_name(const std::string& name);
+
 struct Params {
   double size_mm = 360;      // shorter side of the result (trimmed down to whole patches)
   double patch_mm = 14;      // edge of a square patch before adaptive splitting
@@ -26,6 +38,16 @@ struct Params {
   double adaptive_factor = 1.2;  // split when the four children cost < factor * the whole
   Order order = Order::saliency;
   std::uint64_t seed = 0;    // breaks ties in the patch order
+  Grid grid = Grid::regular;
+  Refine refine = Refine::none;
+  // Width of the overlap band of refine = dp, as a fraction of patch_mm (Efros & Freeman use
+  // 1/6; wider bands give the cuts more room and use more wood).
+  double overlap = 0.3;
+  // Laser kerf: pieces on a sheet keep at least this much wood between them, so cutting one
+  // never burns into another (the cut layer compensates by kerf_mm / 2 outwards).
+  double kerf_mm = 0.2;
+  // Thinnest part a piece may have anywhere (slivers break or burn away).
+  double min_feature_mm = 2.0;
   // Working resolution. 0.5 px/mm (2 mm pixels, a 14 mm patch is 7x7 px) keeps the paper's
   // eye (28x17 patches, 15 rotations, 12 sheets) under 10 s on 2 cores; matching cost grows
   // with the square of this. patch_mm * px_per_mm is rounded to whole pixels.

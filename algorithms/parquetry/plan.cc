@@ -4,12 +4,15 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <random>
 #include <sstream>
 
 #include "algorithms/parquetry/features.h"
 #include "algorithms/parquetry/order.h"
+#include "algorithms/parquetry/plan_shapes.h"
 #include "algorithms/parquetry/wood_index.h"
 
 namespace atelier::parquetry {
@@ -43,49 +46,120 @@ double mse(const cv::Mat& a_bgr, const cv::Mat& b_bgr) {
   return d.dot(d) / static_cast<double>(d.total());
 }
 
-struct Placed {
-  cv::Rect target;  // working pixels of the result
-  Match match;
-  int level = 0;
+cv::Matx23d compose(const cv::Matx23d& a, const cv::Matx23d& b) {  // a after b
+  const cv::Matx33d A(a(0, 0), a(0, 1), a(0, 2), a(1, 0), a(1, 1), a(1, 2), 0, 0, 1);
+  const cv::Matx33d B(b(0, 0), b(0, 1), b(0, 2), b(1, 0), b(1, 1), b(1, 2), 0, 0, 1);
+  const cv::Matx33d C = A * B;
+  return cv::Matx23d(C(0, 0), C(0, 1), C(0, 2), C(1, 0), C(1, 1), C(1, 2));
+}
+
+// One target being planned.
+struct Job {
+  Plan plan;
+  int patch = 0;     // px
+  cv::Mat f1, f2;    // weighted target features (eq. 1-2)
+  Shapes shapes;     // the cells before matching
+  std::vector<Placed> placed;
 };
 
-}  // namespace
-
-Plan make_plan(const cv::Mat& target_in, const std::vector<Sheet>& sheets, const Stock& stock,
-               const Params& p) {
-  validate(p);
-  validate_sheets(sheets);
-  if (target_in.empty()) throw std::invalid_argument("parquetry: the target image is empty");
-  if (sheets.empty()) throw std::invalid_argument("parquetry: no wood sheets");
-  if (!stock.used.empty() && std::abs(stock.px_per_mm - p.px_per_mm) > 1e-9) {
-    throw std::invalid_argument("parquetry: the stock is at " + std::to_string(stock.px_per_mm) +
-                                " px/mm but the plan works at " + std::to_string(p.px_per_mm));
-  }
+void prepare(Job& job, const cv::Mat& target_in, const Params& p) {
   const double r = p.px_per_mm;
-  const int patch = static_cast<int>(std::lround(p.patch_mm * r));
-
-  // The result: shorter side size_mm, trimmed (centred) to whole patches.
+  job.patch = static_cast<int>(std::lround(p.patch_mm * r));
   const cv::Mat bgr = to_bgr(target_in);
   const double scale = p.size_mm * r / std::min(bgr.cols, bgr.rows);
   const cv::Size scaled(std::max(1, static_cast<int>(std::lround(bgr.cols * scale))),
                         std::max(1, static_cast<int>(std::lround(bgr.rows * scale))));
   cv::Mat resized;
   cv::resize(bgr, resized, scaled, 0, 0, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
-  Plan plan;
-  plan.grid_cols = resized.cols / patch;
-  plan.grid_rows = resized.rows / patch;
-  const cv::Rect crop((resized.cols - plan.grid_cols * patch) / 2,
-                      (resized.rows - plan.grid_rows * patch) / 2, plan.grid_cols * patch,
-                      plan.grid_rows * patch);
+  Plan& plan = job.plan;
+  plan.grid = p.grid;
+  plan.refine = p.refine;
+  plan.grid_cols = resized.cols / job.patch;
+  plan.grid_rows = resized.rows / job.patch;
+  const cv::Rect crop((resized.cols - plan.grid_cols * job.patch) / 2,
+                      (resized.rows - plan.grid_rows * job.patch) / 2,
+                      plan.grid_cols * job.patch, plan.grid_rows * job.patch);
   plan.target = resized(crop).clone();
   plan.width_mm = crop.width / r;
   plan.height_mm = crop.height / r;
+}
 
-  WoodIndex wood(sheets, stock, r, p.rotations, p.w_intens, p.w_edge);
-  const double needed_mm2 = plan.width_mm * plan.height_mm;
+// Builds the pieces from the placed cells, the reconstruction and the error figures.
+void finish(Job& job, const WoodIndex& wood, const std::vector<Sheet>& sheets, double r) {
+  Plan& plan = job.plan;
+  plan.reconstruction = cv::Mat::zeros(plan.target.size(), CV_8UC3);
+  cv::Mat baseline = cv::Mat::zeros(plan.target.size(), CV_8UC3);
+  cv::Mat flat_target = cv::Mat::zeros(plan.target.size(), CV_8UC3);
+  const cv::Matx23d px_to_mm(1 / r, 0, 0, 0, 1 / r, 0), mm_to_px(r, 0, 0, 0, r, 0);
+  constexpr int kShift = 8;
+  for (std::size_t i = 0; i < job.placed.size(); ++i) {
+    const Placed& pl = job.placed[i];
+    Piece piece;
+    piece.id = static_cast<int>(i) + 1;
+    piece.sheet_id = sheets[pl.match.sheet].id;
+    piece.rotation_deg = pl.match.angle_deg;
+    piece.target = transformed(pl.outline_px, px_to_mm);
+    const cv::Matx23d result_to_window(1, 0, -pl.rect.x, 0, 1, -pl.rect.y);
+    piece.to_sheet = compose(px_to_mm, compose(wood.window_to_sheet(pl.match),
+                                               compose(result_to_window, mm_to_px)));
+    piece.source = transformed(piece.target, piece.to_sheet);
+    piece.target_mm = flatten(piece.target, kFlattenMm);
+    piece.source_mm = flatten(piece.source, kFlattenMm);
+    piece.cost = pl.match.cost;
+    piece.level = pl.level;
+
+    // The piece's pixels: centres inside its outline (within its window).
+    cv::Mat mask = cv::Mat::zeros(plan.target.size(), CV_8UC1);
+    std::vector<cv::Point> poly;
+    for (const cv::Point2d& q : flatten(pl.outline_px, 0.05)) {
+      poly.emplace_back(static_cast<int>(std::lround((q.x - 0.5) * (1 << kShift))),
+                        static_cast<int>(std::lround((q.y - 0.5) * (1 << kShift))));
+    }
+    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255), cv::LINE_8,
+                 kShift);
+    cv::Mat inside = cv::Mat::zeros(plan.target.size(), CV_8UC1);
+    mask(pl.rect).copyTo(inside(pl.rect));
+    const cv::Mat colour = wood.colour(pl.match);
+    colour.copyTo(plan.reconstruction(pl.rect), inside(pl.rect));
+    if (cv::countNonZero(inside) > 0) {
+      baseline.setTo(cv::mean(plan.reconstruction, inside), inside);
+      flat_target.setTo(cv::mean(plan.target, inside), inside);
+    }
+    plan.pieces.push_back(std::move(piece));
+  }
+  plan.error = mse(plan.reconstruction, plan.target);
+  plan.baseline_error = mse(baseline, plan.target);
+  plan.target_mean_error = mse(flat_target, plan.target);
+}
+
+}  // namespace
+
+std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
+                             const std::vector<Sheet>& sheets, const Stock& stock,
+                             const Params& p) {
+  validate(p);
+  validate_sheets(sheets);
+  if (targets.empty()) throw std::invalid_argument("parquetry: no target image");
+  for (const cv::Mat& t : targets) {
+    if (t.empty()) throw std::invalid_argument("parquetry: the target image is empty");
+  }
+  if (sheets.empty()) throw std::invalid_argument("parquetry: no wood sheets");
+  const double r = p.px_per_mm;
+
+  std::vector<Job> jobs(targets.size());
+  for (std::size_t t = 0; t < targets.size(); ++t) prepare(jobs[t], targets[t], p);
+
+  WoodIndex wood(sheets, stock, r, p.rotations, p.w_intens, p.w_edge, p.kerf_mm);
+  double needed_mm2 = 0;
+  int cells = 0;
+  for (Job& job : jobs) {
+    job.shapes = make_shapes(job.plan.target, job.plan.grid_cols, job.plan.grid_rows, job.patch, p);
+    needed_mm2 += job.shapes.wood_px / (r * r);
+    cells += job.plan.grid_cols * job.plan.grid_rows;
+  }
   const double free_mm2 = wood.free_px() / (r * r);
-  const std::string need = "the plan needs " + mm2(needed_mm2) + " (" +
-                           std::to_string(plan.grid_cols) + "x" + std::to_string(plan.grid_rows) +
+  const int patch = jobs.front().patch;
+  const std::string need = "the plan needs " + mm2(needed_mm2) + " (" + std::to_string(cells) +
                            " patches of " + mm(patch / r) + ")";
   if (needed_mm2 > free_mm2) {
     throw OutOfWood("parquetry: out of wood: " + need + " but the sheets have only " +
@@ -93,102 +167,71 @@ Plan make_plan(const cv::Mat& target_in, const std::vector<Sheet>& sheets, const
                     needed_mm2, free_mm2);
   }
 
-  // Eq. 1-2 for the target: histogram-matched intensity, and its edges.
-  const cv::Mat gray = to_gray(plan.target);
-  std::array<double, 256> target_hist{};
-  add_histogram(target_hist, gray, cv::Mat());
-  const cv::Mat intens = apply_lut(gray, matching_lut(target_hist, wood.free_histogram(), p.w_hist));
-  const cv::Mat f1 = intens * p.w_intens;
-  const cv::Mat f2 = edge(intens) * p.w_edge;
+  // Eq. 1-2 per target: histogram-matched intensity (to the free wood), and its edges.
+  for (Job& job : jobs) {
+    const cv::Mat gray = to_gray(job.plan.target);
+    std::array<double, 256> target_hist{};
+    add_histogram(target_hist, gray, cv::Mat());
+    const cv::Mat intens =
+        apply_lut(gray, matching_lut(target_hist, wood.free_histogram(), p.w_hist));
+    job.f1 = intens * p.w_intens;
+    job.f2 = edge(intens) * p.w_edge;
+  }
 
-  std::vector<Placed> placed;
-  // Places the patch at `rect`, split in four while that is cheaper (paper 3.3). Returns its
-  // total cost, or nullopt (nothing placed) when no free wood fits.
-  std::function<std::optional<double>(cv::Rect, int)> place = [&](cv::Rect rect, int level)
-      -> std::optional<double> {
-    const std::optional<Match> whole = wood.best(f1(rect), f2(rect));
-    if (!whole) return std::nullopt;
-    const int hw = rect.width / 2, hh = rect.height / 2;
-    if (level < p.adaptive_levels && std::min(hw, hh) / r >= kMinPatchMm - 1e-9) {
-      const WoodIndex::Snapshot before = wood.save();
-      const std::size_t placed_before = placed.size(), splits_before = plan.splits.size();
-      const cv::Rect quarters[4] = {{rect.x, rect.y, hw, hh},
-                                    {rect.x + hw, rect.y, rect.width - hw, hh},
-                                    {rect.x, rect.y + hh, hw, rect.height - hh},
-                                    {rect.x + hw, rect.y + hh, rect.width - hw, rect.height - hh}};
-      double sum = 0;
-      for (const cv::Rect& q : quarters) {
-        const std::optional<double> c = place(q, level + 1);
-        if (!c) {
-          sum = std::numeric_limits<double>::infinity();
-          break;
-        }
-        sum += *c;
-      }
-      SplitDecision d{cv::Rect2d(rect.x / r, rect.y / r, rect.width / r, rect.height / r),
-                      whole->cost, sum, sum < p.adaptive_factor * whole->cost};
-      if (d.split) {
-        plan.splits.push_back(d);
-        return sum;
-      }
-      wood.restore(before);
-      placed.resize(placed_before);
-      plan.splits.resize(splits_before);
-      plan.splits.push_back(d);
-    }
-    wood.take(*whole);
-    placed.push_back({rect, *whole, level});
-    return whole->cost;
+  // One priority queue over the cells of every target (paper 3.3 and 4.2).
+  struct Entry {
+    int job, cell;
+    double priority;
   };
+  std::vector<Entry> queue;
+  for (std::size_t t = 0; t < jobs.size(); ++t) {
+    const Job& job = jobs[t];
+    const std::vector<double> pr = patch_priority(job.plan.target, job.plan.grid_cols,
+                                                  job.plan.grid_rows, job.patch, p.order);
+    for (std::size_t c = 0; c < pr.size(); ++c) {
+      queue.push_back({static_cast<int>(t), static_cast<int>(c), pr[c]});
+    }
+  }
+  std::mt19937_64 rng(p.seed);
+  std::shuffle(queue.begin(), queue.end(), rng);
+  std::stable_sort(queue.begin(), queue.end(),
+                   [](const Entry& a, const Entry& b) { return a.priority < b.priority; });
 
-  const std::vector<int> order =
-      patch_order(plan.target, plan.grid_cols, plan.grid_rows, patch, p.order, p.seed);
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const cv::Rect rect((order[i] % plan.grid_cols) * patch, (order[i] / plan.grid_cols) * patch,
-                        patch, patch);
-    if (!place(rect, 0)) {
+  for (std::size_t i = 0; i < queue.size(); ++i) {
+    Job& job = jobs[queue[i].job];
+    if (!place_cell(job.shapes, queue[i].cell, job.f1, job.f2, wood, p, job.placed,
+                    job.plan.splits)) {
       throw OutOfWood("parquetry: out of wood: " + need + " and the sheets had " +
                           mm2(free_mm2) + " free, but after " + std::to_string(i) + " of " +
-                          std::to_string(order.size()) + " patches no free window of " +
-                          std::to_string(patch / r) + " mm was left in any sheet and rotation (" +
+                          std::to_string(queue.size()) + " patches no free window of " +
+                          mm(patch / r) + " was left in any sheet and rotation (" +
                           mm2(wood.free_px() / (r * r)) + " free in pieces too small)",
                       needed_mm2, free_mm2);
     }
   }
 
-  plan.reconstruction = cv::Mat::zeros(plan.target.size(), CV_8UC3);
-  cv::Mat baseline = cv::Mat::zeros(plan.target.size(), CV_8UC3);
-  cv::Mat flat = cv::Mat::zeros(plan.target.size(), CV_8UC3);
-  for (std::size_t i = 0; i < placed.size(); ++i) {
-    const Placed& pl = placed[i];
-    Piece piece;
-    piece.id = static_cast<int>(i) + 1;
-    piece.sheet_id = sheets[pl.match.sheet].id;
-    piece.rotation_deg = pl.match.angle_deg;
-    const auto src = wood.corners_in_sheet(pl.match);
-    const cv::Rect& t = pl.target;
-    const std::array<cv::Point2d, 4> dst = {
-        cv::Point2d(t.x, t.y), cv::Point2d(t.x + t.width, t.y),
-        cv::Point2d(t.x + t.width, t.y + t.height), cv::Point2d(t.x, t.y + t.height)};
-    for (int k = 0; k < 4; ++k) {
-      piece.source_mm[k] = src[k] / r;
-      piece.target_mm[k] = dst[k] / r;
-    }
-    piece.cost = pl.match.cost;
-    piece.level = pl.level;
-    plan.pieces.push_back(piece);
-    wood.colour(pl.match).copyTo(plan.reconstruction(t));
-    baseline(t).setTo(cv::mean(plan.target(t)));
-    flat(t).setTo(cv::mean(plan.reconstruction(t)));
+  std::vector<Plan> plans;
+  for (Job& job : jobs) {
+    const SeamCosts seams = final_outlines(job.shapes, job.f1, job.f2, wood, p, job.placed);
+    job.plan.seam_cost_straight = seams.straight;
+    job.plan.seam_cost_refined = seams.refined;
+    finish(job, wood, sheets, r);
+    check_fabricable(job.plan, job.shapes, p);
+    plans.push_back(std::move(job.plan));
   }
-  plan.error = mse(plan.reconstruction, plan.target);
-  plan.baseline_error = mse(baseline, plan.target);
-  plan.wood_mean_error = mse(flat, plan.target);
+  return plans;
+}
 
-  plan.stock = stock;
-  plan.stock.px_per_mm = r;
-  for (auto& [id, mask] : wood.stock(sheets).used) plan.stock.used[id] = mask;
-  return plan;
+Plan make_plan(const cv::Mat& target, const std::vector<Sheet>& sheets, const Stock& stock,
+               const Params& params) {
+  return std::move(make_plans({target}, sheets, stock, params).front());
+}
+
+Stock with_plan(Stock stock, const Plan& plan, const std::string& job) {
+  for (const Piece& piece : plan.pieces) {
+    stock.used[piece.sheet_id].push_back({job, piece.id, piece.source_mm});
+  }
+  return stock;
 }
 
 }  // namespace atelier::parquetry

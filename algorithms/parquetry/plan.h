@@ -1,35 +1,38 @@
-// A parquetry plan (paper 3.2-3.3): the target photo rebuilt from square veneer patches on a
-// regular grid, each matched to the unused wood it resembles most.
+// A parquetry plan (paper 3.2-3.4): the target photo rebuilt from veneer pieces, each matched
+// to the unused wood it resembles most, on a regular grid, a morphed grid or with refined cuts.
 //
 // Coordinates. Result mm: origin at the result's top-left, x right, y down; the result is the
 // target scaled so its shorter side is size_mm, then trimmed (centred) to whole patches.
-// Sheet mm: see sheet.h. A piece is cut along `source_mm` on its sheet, turned by
-// `rotation_deg` counter-clockwise as seen on the scan (y down), and laid at `target_mm`;
-// source_mm[i] lands on target_mm[i] (corners top-left, top-right, bottom-right, bottom-left
-// of the target square).
+// Sheet mm: see sheet.h. A piece is cut along `source` on its sheet and laid at `target`:
+// source = to_sheet(target), a rigid motion (the piece turned by rotation_deg).
 //
 // Pure (no I/O, clocks or logging). make_plan uses OpenCV's worker threads (cv::parallel_for_)
 // and is safe to call from several threads at once.
 #pragma once
 
-#include <array>
 #include <opencv2/core.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "algorithms/parquetry/outline.h"
 #include "algorithms/parquetry/params.h"
 #include "algorithms/parquetry/sheet.h"
 
 namespace atelier::parquetry {
 
+// Tolerance of the flattened polygons below (mm).
+inline constexpr double kFlattenMm = 0.05;
+
 struct Piece {
-  int id = 0;                 // 1..n in the order the pieces were matched
+  int id = 0;                 // 1..n in the order the pieces were matched (per plan)
   std::string sheet_id;
-  double rotation_deg = 0;    // k * 360 / rotations
-  std::array<cv::Point2d, 4> source_mm;
-  std::array<cv::Point2d, 4> target_mm;
-  double cost = 0;            // eq. 4: SSD of the weighted features at px_per_mm
+  double rotation_deg = 0;    // the wood turned by k * 360 / rotations, counter-clockwise on the scan
+  Outline target;             // result mm
+  Outline source;             // sheet mm: to_sheet applied to target
+  cv::Matx23d to_sheet;       // result mm -> sheet mm (rotation + translation)
+  std::vector<cv::Point2d> target_mm, source_mm;  // the outlines flattened within kFlattenMm
+  double cost = 0;            // eq. 4: SSD of the weighted features at px_per_mm, per matched px
   int level = 0;              // 0 = full patch, 1 = a quarter, ...
 };
 
@@ -43,20 +46,24 @@ struct SplitDecision {
 
 struct Plan {
   double width_mm = 0, height_mm = 0;  // the result
-  int grid_cols = 0, grid_rows = 0;    // patches of the regular grid before splitting
+  int grid_cols = 0, grid_rows = 0;    // patches of the grid before splitting
+  Grid grid = Grid::regular;
+  Refine refine = Refine::none;
   std::vector<Piece> pieces;
   std::vector<SplitDecision> splits;
   cv::Mat reconstruction;    // CV_8UC3 BGR at px_per_mm: the wood laid out as planned
   cv::Mat target;            // CV_8UC3 BGR at px_per_mm: the trimmed target
-  // Mean squared grey-level error (0..255 scale) against the target `target`:
+  // Mean squared grey-level error (0..255 scale) against `target`:
   double error = 0;           // of the reconstruction
-  double baseline_error = 0;  // of every patch filled with the target's mean colour there
-  // ... and of the reconstruction with every wood patch flattened to its own mean colour (the
-  // paper's figure-8 baseline): `error` below this is detail the grain adds. Note the
-  // reconstruction is in the wood's gamut (eq. 2 pulls the target towards it by w_hist), so at
-  // w_hist > 0 `error` also pays for the gamut change that baseline_error does not.
-  double wood_mean_error = 0;
-  Stock stock;               // the input stock plus the wood this plan uses
+  // ... of the reconstruction with every piece flattened to its wood's mean colour: the
+  // paper's figure-8 baseline; `error` below it is the detail the grain adds.
+  double baseline_error = 0;
+  // ... of every piece filled with the target's own mean colour there (the best a flat
+  // colour per piece could do, outside the wood's gamut; for information).
+  double target_mean_error = 0;
+  // Eq. 8 (summed squared feature differences) of the straight grid cuts and of the refined
+  // cuts, refine = dp only (0 otherwise).
+  double seam_cost_straight = 0, seam_cost_refined = 0;
 };
 
 // Thrown when the wood left cannot hold the plan; says how much area was needed and free.
@@ -67,9 +74,26 @@ class OutOfWood : public std::runtime_error {
   double needed_mm2, free_mm2;
 };
 
-// `target` is CV_8UC3 BGR (or CV_8UC1). Throws std::invalid_argument for bad parameters,
-// sheets or a stock at another resolution, OutOfWood when the wood runs out.
+// Thrown when the shapes cannot be made fabricable (a piece below 5 mm, in several parts or
+// with a sliver thinner than min_feature_mm); says which piece and why.
+class Unfabricable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// `target` is CV_8UC3 BGR (or CV_8UC1 / CV_8UC4). Throws std::invalid_argument for bad
+// parameters or sheets, OutOfWood when the wood runs out, Unfabricable.
 Plan make_plan(const cv::Mat& target, const std::vector<Sheet>& sheets, const Stock& stock,
                const Params& params);
+
+// Several targets planned together on the same wood (paper 4.2): the patches of all targets
+// in one priority queue (saliency scores compared across targets, or centre distance), so
+// the most salient patches of every target get the best wood. Plans in the targets' order.
+std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
+                             const std::vector<Sheet>& sheets, const Stock& stock,
+                             const Params& params);
+
+// `stock` plus the pieces of `plan` (their source outlines), labelled with `job`.
+Stock with_plan(Stock stock, const Plan& plan, const std::string& job);
 
 }  // namespace atelier::parquetry

@@ -19,19 +19,37 @@ struct Sheet {
   double dpi = 300;
 };
 
-// Used wood per sheet id: CV_8UC1 masks (255 = used) at the working resolution, of the size
-// sheet_size_px() gives. A sheet without an entry is unused. Plans read a Stock and return the
-// updated one, so several jobs never plan the same wood twice.
+// A piece of wood taken from a sheet: its outline in sheet mm, and who took it.
+struct UsedPiece {
+  std::string job;                      // the job that planned it ("" = unknown)
+  int piece = 0;                        // the piece's id in that job's plan.json
+  std::vector<cv::Point2d> polygon_mm;  // closed, first point not repeated
+};
+
+// Used wood per sheet id, as the pieces' outlines in sheet mm (resolution-free, so it survives
+// a change of working resolution, and says which job used what). Plans read a Stock, and
+// with_plan() adds a plan's pieces, so jobs never plan the same wood twice. Wood within
+// kerf_mm of a used piece is not free (the kerf between two cuts).
 struct Stock {
-  double px_per_mm = 0;  // resolution of the masks; 0 = empty stock, any resolution
-  std::map<std::string, cv::Mat> used;
+  std::map<std::string, std::vector<UsedPiece>> used;
 };
 
 // Size of a sheet's masks at `px_per_mm` (the scan resampled from dpi / 25.4 px per mm).
 cv::Size sheet_size_px(const Sheet& sheet, double px_per_mm);
 
-// Area in mm^2 of usable wood not yet used, over all sheets.
-double free_area_mm2(const std::vector<Sheet>& sheets, const Stock& stock, double px_per_mm);
+// Used-wood mask of one sheet: CV_8UC1 of sheet_size_px(sheet, px_per_mm), 255 on every
+// pixel that a used piece, grown by kerf_mm, touches (conservative: a free pixel is free).
+cv::Mat used_mask(const Sheet& sheet, const std::vector<UsedPiece>& used, double px_per_mm,
+                  double kerf_mm);
+
+// Usable mask of one sheet at px_per_mm (255 = veneer; conservative: every scan pixel under
+// a working pixel must be usable).
+cv::Mat usable_mask(const Sheet& sheet, double px_per_mm);
+
+// Area in mm^2 of usable wood not yet used, over all sheets, and per sheet.
+double free_area_mm2(const std::vector<Sheet>& sheets, const Stock& stock, double px_per_mm,
+                     double kerf_mm = 0);
+double used_area_mm2(const std::vector<UsedPiece>& used);  // sum of the polygons' areas
 
 // Throws std::invalid_argument for an empty image, wrong types, a usable mask of another size,
 // dpi <= 0 or a repeated id.

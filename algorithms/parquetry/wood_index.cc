@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "algorithms/laser/kerf.h"
 #include "algorithms/parquetry/features.h"
 
 namespace atelier::parquetry {
@@ -51,7 +52,8 @@ struct WoodIndex::Copy {
   cv::Size dft_size;
   cv::Mat f1, f2;        // weighted features, CV_32F
   cv::Mat spec1, spec2;  // CCS spectra of f1, f2 zero-padded to dft_size
-  cv::Mat sq_integral;   // CV_64F integral of f1^2 + f2^2
+  cv::Mat sq;            // CV_32F f1^2 + f2^2
+  cv::Mat sq_integral;   // CV_64F integral of sq
   cv::Mat f1_integral, f2_integral;  // CV_64F
   cv::Mat bad;           // CV_8UC1, 1 = unusable, used or off the sheet
   cv::Mat bad_integral;  // CV_32S
@@ -62,27 +64,18 @@ struct WoodIndex::Copy {
 };
 
 WoodIndex::WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, double px_per_mm,
-                     int rotations, double w_intens, double w_edge)
-    : px_per_mm_(px_per_mm), copies_of_sheet_(sheets.size()) {
+                     int rotations, double w_intens, double w_edge, double kerf_mm)
+    : px_per_mm_(px_per_mm),
+      grow_px_(std::max(0.0, kerf_mm) * px_per_mm + kMargin),
+      copies_of_sheet_(sheets.size()) {
   for (std::size_t s = 0; s < sheets.size(); ++s) {
     const Sheet& sheet = sheets[s];
     const cv::Size size = sheet_size_px(sheet, px_per_mm);
     const cv::Mat bgr = resized(sheet.image, size);
-    cv::Mat usable(size, CV_8UC1, cv::Scalar(255));
-    if (!sheet.usable.empty()) {
-      // Conservative: a working pixel is usable only if all the scan under it is.
-      usable = resized(sheet.usable, size) > 250;
-    }
+    const cv::Mat usable = usable_mask(sheet, px_per_mm);
     cv::Mat used = cv::Mat::zeros(size, CV_8UC1);
-    if (auto it = stock.used.find(sheet.id); it != stock.used.end() && !it->second.empty()) {
-      if (it->second.size() != size || it->second.type() != CV_8UC1) {
-        throw std::invalid_argument("parquetry: stock mask of sheet '" + sheet.id + "' is " +
-                                    std::to_string(it->second.cols) + "x" +
-                                    std::to_string(it->second.rows) + ", expected " +
-                                    std::to_string(size.width) + "x" +
-                                    std::to_string(size.height) + " CV_8UC1");
-      }
-      used = it->second > 0;
+    if (auto it = stock.used.find(sheet.id); it != stock.used.end()) {
+      used = used_mask(sheet, it->second, px_per_mm, kerf_mm);
     }
     const cv::Mat gray = to_gray(bgr);
     const cv::Mat intens = intensity(gray);
@@ -135,8 +128,8 @@ WoodIndex::WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, doubl
                            c->dft_size.width - canvas.width, cv::BORDER_CONSTANT, 0);
         cv::dft(padded, *spec, 0, canvas.height);
       }
-      cv::Mat sq = rf1.mul(rf1) + rf2.mul(rf2);
-      cv::integral(sq, c->sq_integral, CV_64F);
+      c->sq = rf1.mul(rf1) + rf2.mul(rf2);
+      cv::integral(c->sq, c->sq_integral, CV_64F);
       cv::integral(rf1, c->f1_integral, CV_64F);
       cv::integral(rf2, c->f2_integral, CV_64F);
       refresh(*c);
@@ -156,7 +149,57 @@ void WoodIndex::refresh(Copy& c) {
   c.valid_count.clear();
 }
 
-std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2) {
+int WoodIndex::ensure_valid(Copy& c, int pw, int ph) {
+  const SizeKey key{pw, ph};
+  const int nx = c.bad.cols - pw + 1, ny = c.bad.rows - ph + 1;
+  if (nx <= 0 || ny <= 0) return 0;
+  if (!c.valid_count.count(key)) {
+    const cv::Mat& I = c.bad_integral;
+    cv::Mat sum = I(cv::Rect(pw, ph, nx, ny)) - I(cv::Rect(pw, 0, nx, ny)) -
+                  I(cv::Rect(0, ph, nx, ny)) + I(cv::Rect(0, 0, nx, ny));
+    c.valid[key] = sum == 0;
+    c.valid_count[key] = cv::countNonZero(c.valid[key]);
+  }
+  return c.valid_count[key];
+}
+
+std::optional<Match> WoodIndex::best_masked(const cv::Mat& f1, const cv::Mat& f2,
+                                            const cv::Mat& mask) {
+  const int pw = f1.cols, ph = f1.rows;
+  const SizeKey key{pw, ph};
+  cv::Mat m;
+  cv::Mat(mask > 0).convertTo(m, CV_32F, 1.0 / 255);
+  const cv::Mat mf1 = f1.mul(m), mf2 = f2.mul(m);
+  const double tsq = mf1.dot(f1) + mf2.dot(f2);
+  // Eq. 4 over the mask: sum m (T - S)^2 = sum m T^2 - 2 corr(m T, S) + corr(m, S^2).
+  std::vector<Match> found(copies_.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(copies_.size())), [&](const cv::Range& r) {
+    thread_local cv::Mat corr, prod, wsq, score;
+    for (int i = r.start; i < r.end; ++i) {
+      Copy& c = *copies_[i];
+      if (ensure_valid(c, pw, ph) == 0) continue;
+      const cv::Mat& valid = c.valid[key];
+      const cv::Rect roi(0, 0, valid.cols, valid.rows);
+      cv::filter2D(c.f1, corr, CV_32F, mf1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+      cv::filter2D(c.f2, prod, CV_32F, mf2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+      corr += prod;
+      cv::filter2D(c.sq, wsq, CV_32F, m, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+      cv::scaleAdd(corr(roi), -2.0, wsq(roi), score);
+      double lo = 0;
+      cv::Point at;
+      cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
+      found[i] = Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
+    }
+  });
+  std::optional<Match> best;
+  for (const Match& f : found) {
+    if (f.copy >= 0 && (!best || f.cost < best->cost)) best = f;
+  }
+  return best;
+}
+
+std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask) {
+  if (!mask.empty() && static_cast<std::size_t>(cv::countNonZero(mask)) < mask.total()) return best_masked(f1, f2, mask);
   const int pw = f1.cols, ph = f1.rows;
   const SizeKey key{pw, ph};
   const double tsq = f1.dot(f1) + f2.dot(f2);
@@ -170,15 +213,7 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2) {
     for (int i = r.start; i < r.end; ++i) {
       Copy& c = *copies_[i];
       const int nx = c.bad.cols - pw + 1, ny = c.bad.rows - ph + 1;
-      if (nx <= 0 || ny <= 0) continue;
-      if (!c.valid_count.count(key)) {
-        const cv::Mat& I = c.bad_integral;
-        cv::Mat sum = I(cv::Rect(pw, ph, nx, ny)) - I(cv::Rect(pw, 0, nx, ny)) -
-                      I(cv::Rect(0, ph, nx, ny)) + I(cv::Rect(0, 0, nx, ny));
-        c.valid[key] = sum == 0;
-        c.valid_count[key] = cv::countNonZero(c.valid[key]);
-      }
-      if (c.valid_count[key] == 0) continue;
+      if (ensure_valid(c, pw, ph) == 0) continue;
       if (!c.window_sq.count(key)) {
         c.window_sq[key] = window_sums(c.sq_integral, pw, ph, nx, ny);
         c.window_f1[key] = window_sums(c.f1_integral, pw, ph, nx, ny);
@@ -278,55 +313,45 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2) {
   return best;
 }
 
-std::array<cv::Point2d, 4> WoodIndex::corners_in_sheet(const Match& m) const {
-  const Copy& c = *copies_[m.copy];
-  const double x = m.pos.x, y = m.pos.y, w = m.size.width, h = m.size.height;
-  return {apply(c.to_sheet, {x, y}), apply(c.to_sheet, {x + w, y}),
-          apply(c.to_sheet, {x + w, y + h}), apply(c.to_sheet, {x, y + h})};
+cv::Matx23d WoodIndex::window_to_sheet(const Match& m) const {
+  const cv::Matx23d& t = copies_[m.copy]->to_sheet;
+  // to_sheet * (p + pos)
+  return cv::Matx23d(t(0, 0), t(0, 1), t(0, 0) * m.pos.x + t(0, 1) * m.pos.y + t(0, 2),
+                     t(1, 0), t(1, 1), t(1, 0) * m.pos.x + t(1, 1) * m.pos.y + t(1, 2));
 }
 
-namespace {
-
-// Fills `value` into `mask` over the piece with these sheet corners, mapped by `to_frame` and
-// grown by kMargin so that every pixel the piece touches is covered.
-void mark(cv::Mat& mask, const cv::Matx23d& to_frame,
-          const std::array<cv::Point2d, 4>& sheet_corners, int value) {
-  std::array<cv::Point2d, 4> q;
-  for (int i = 0; i < 4; ++i) q[i] = apply(to_frame, sheet_corners[i]);
-  const cv::Point2d u = (q[1] - q[0]) / cv::norm(q[1] - q[0]);
-  const cv::Point2d v = (q[3] - q[0]) / cv::norm(q[3] - q[0]);
-  const std::array<cv::Point2d, 4> grow = {-u - v, u - v, u + v, -u + v};
+void WoodIndex::take(int sheet, const std::vector<cv::Point2d>& polygon) {
+  // Grown once in the sheet's frame (a rigid motion keeps the growth), then filled by pixel
+  // centres in every frame.
+  laser::Path path;
+  path.closed = true;
+  for (const cv::Point2d& p : polygon) path.points.push_back({p.x, p.y});
+  const laser::KerfResult grown = laser::apply_kerf({path}, 2 * grow_px_, 0.02);
   constexpr int kShift = 8;
-  std::array<cv::Point, 4> pts;
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d p = q[i] + kMargin * grow[i] - cv::Point2d(0.5, 0.5);
-    pts[i] = cv::Point(static_cast<int>(std::lround(p.x * (1 << kShift))),
-                       static_cast<int>(std::lround(p.y * (1 << kShift))));
-  }
-  cv::fillConvexPoly(mask, pts.data(), 4, cv::Scalar(value), cv::LINE_8, kShift);
-}
-
-}  // namespace
-
-void WoodIndex::take(const Match& m) {
-  const auto corners = corners_in_sheet(m);
-  const Copy& from = *copies_[m.copy];
-  for (int i : copies_of_sheet_[m.sheet]) {
-    Copy& c = *copies_[i];
-    if (i == m.copy) {
-      c.bad(cv::Rect(m.pos, m.size)).setTo(1);  // pixel-aligned in its own frame: exact
-    } else {
-      mark(c.bad, c.to_copy, corners, 1);
+  auto fill = [&](cv::Mat& mask, const cv::Matx23d& to_frame, int value) {
+    std::vector<std::vector<cv::Point>> polys;
+    for (const laser::Path& g : grown.paths) {
+      std::vector<cv::Point> poly;
+      for (const laser::Point& q : g.points) {
+        const cv::Point2d f = apply(to_frame, {q.x, q.y}) - cv::Point2d(0.5, 0.5);
+        poly.emplace_back(static_cast<int>(std::lround(f.x * (1 << kShift))),
+                          static_cast<int>(std::lround(f.y * (1 << kShift))));
+      }
+      polys.push_back(std::move(poly));
     }
+    cv::fillPoly(mask, polys, cv::Scalar(value), cv::LINE_8, kShift);
+  };
+  for (int i : copies_of_sheet_[sheet]) {
+    Copy& c = *copies_[i];
+    fill(c.bad, c.to_copy, 1);
     refresh(c);
   }
-  // The stock mask is copy 0's frame.
-  cv::Mat& used = used_[m.sheet];
-  if (from.angle_deg == 0) {
-    used(cv::Rect(m.pos, m.size)).setTo(255);
-  } else {
-    mark(used, copies_[copies_of_sheet_[m.sheet].front()]->to_copy, corners, 255);
-  }
+  fill(used_[sheet], cv::Matx23d(1, 0, 0, 0, 1, 0), 255);
+}
+
+std::pair<cv::Mat, cv::Mat> WoodIndex::features(const Match& m) const {
+  const Copy& c = *copies_[m.copy];
+  return {c.f1(cv::Rect(m.pos, m.size)).clone(), c.f2(cv::Rect(m.pos, m.size)).clone()};
 }
 
 cv::Mat WoodIndex::colour(const Match& m) const {
@@ -352,13 +377,6 @@ double WoodIndex::free_px() const {
   double n = 0;
   for (std::size_t i = 0; i < used_.size(); ++i) n += cv::countNonZero(usable_[i] & ~used_[i]);
   return n;
-}
-
-Stock WoodIndex::stock(const std::vector<Sheet>& sheets) const {
-  Stock out;
-  out.px_per_mm = px_per_mm_;
-  for (std::size_t i = 0; i < sheets.size(); ++i) out.used[sheets[i].id] = used_[i].clone();
-  return out;
 }
 
 }  // namespace atelier::parquetry

@@ -8,14 +8,16 @@
 // (computed once), so a patch costs per copy two spectrum products and one inverse DFT (only
 // the rows holding window positions). Used wood is rasterised into every rotated mask when a
 // piece is taken; an integral image of each mask rejects windows touching used or unusable
-// wood in O(1), cached per window size until the sheet changes. An exact lower bound per copy,
+// wood in O(1), cached per window size until the sheet changes. Masked patches (cells that
+// are not rectangles) are correlated directly, three correlations per copy, unpruned. An exact lower bound per copy,
 // (sum of differences)^2 / n per feature over its free windows, orders the copies and skips
 // those that cannot beat the best found so far (about 70% of them). Copies are searched in
 // parallel batches (cv::parallel_for_).
 //
 // Frames. Rotated copy k of a sheet shows the sheet turned by k * 360 / n degrees
-// counter-clockwise (y down) on a canvas just holding it; copy 0 is the sheet itself. In other
-// copies a taken piece is marked with a 0.71 px margin so every pixel it touches is used.
+// counter-clockwise (y down) on a canvas just holding it; copy 0 is the sheet itself. A taken
+// piece is grown by the kerf and half a pixel diagonal in every copy, so every pixel within the
+// kerf of it is used.
 //
 // Not thread-safe: one plan owns one WoodIndex.
 #pragma once
@@ -44,24 +46,30 @@ class WoodIndex {
  public:
   // `sheets` and `stock` validated by the caller; stock.px_per_mm == px_per_mm or 0.
   WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, double px_per_mm,
-            int rotations, double w_intens, double w_edge);
+            int rotations, double w_intens, double w_edge, double kerf_mm);
   ~WoodIndex();
 
   // Histogram of the free wood's grey levels (for eq. 2).
   const std::array<double, 256>& free_histogram() const { return free_hist_; }
 
   // Best free window for weighted features f1, f2 (CV_32F, same size); nullopt when no window
-  // of that size is free anywhere.
-  std::optional<Match> best(const cv::Mat& f1, const cv::Mat& f2);
+  // of that size is free anywhere. `mask` (CV_8UC1 of that size, may be empty = all): eq. 4
+  // sums only over its non-zero pixels (the window must still be wholly free).
+  std::optional<Match> best(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask = {});
 
-  // Marks the window of `m` used in every copy of its sheet and in the sheet's stock mask.
-  void take(const Match& m);
+  // Marks `polygon` (sheet pixels at the working resolution, closed) used, grown by the kerf,
+  // in every copy of `sheet` and in its used mask.
+  void take(int sheet, const std::vector<cv::Point2d>& polygon);
+
+  // Window pixels of `m` (its copy, origin at the window's top-left) -> sheet pixels.
+  cv::Matx23d window_to_sheet(const Match& m) const;
+
+  // Weighted wood features (CV_32F f1, f2) under the window of `m`.
+  std::pair<cv::Mat, cv::Mat> features(const Match& m) const;
 
   // Wood colour (CV_8UC3) under the window of `m`.
   cv::Mat colour(const Match& m) const;
 
-  // Window corners (top-left, top-right, bottom-right, bottom-left) in sheet pixels.
-  std::array<cv::Point2d, 4> corners_in_sheet(const Match& m) const;
 
   // Saved masks, to undo tentative takes (adaptive splitting).
   struct Snapshot {
@@ -74,16 +82,17 @@ class WoodIndex {
   // Free area left, in working pixels.
   double free_px() const;
 
-  // Used masks per sheet at the working resolution (the Stock to hand back).
-  Stock stock(const std::vector<Sheet>& sheets) const;
-
   std::size_t copies() const { return copies_.size(); }
 
  private:
   struct Copy;
   static void refresh(Copy& c);
+  // Windows of size `key` wholly on free wood in `c` (255), cached; returns their count.
+  static int ensure_valid(Copy& c, int pw, int ph);
+  std::optional<Match> best_masked(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask);
 
   double px_per_mm_;
+  double grow_px_;  // kerf + half a pixel diagonal
   std::vector<std::unique_ptr<Copy>> copies_;
   std::vector<std::vector<int>> copies_of_sheet_;
   std::vector<cv::Mat> used_;  // per sheet, CV_8UC1 255 = used (copy 0's frame)

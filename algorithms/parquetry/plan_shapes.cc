@@ -1,0 +1,222 @@
+#include "algorithms/parquetry/plan_shapes.h"
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "algorithms/parquetry/curved_grid.h"
+#include "algorithms/parquetry/cut_refine.h"
+#include "algorithms/parquetry/fabricability.h"
+#include "algorithms/parquetry/grid_morph.h"
+
+namespace atelier::parquetry {
+
+namespace {
+
+std::vector<cv::Point2d> corners(const cv::Rect& r) {
+  return {cv::Point2d(r.x, r.y), cv::Point2d(r.x + r.width, r.y),
+          cv::Point2d(r.x + r.width, r.y + r.height), cv::Point2d(r.x, r.y + r.height)};
+}
+
+// Takes the wood under `polygon` (result px) of a window matched at `m` over `rect`.
+void take(WoodIndex& wood, const Match& m, const cv::Rect& rect,
+          const std::vector<cv::Point2d>& polygon) {
+  const cv::Matx23d to_sheet = wood.window_to_sheet(m);
+  std::vector<cv::Point2d> on_sheet;
+  for (const cv::Point2d& q : polygon) {
+    on_sheet.push_back(transformed(q - cv::Point2d(rect.x, rect.y), to_sheet));
+  }
+  wood.take(m.sheet, on_sheet);
+}
+
+// Regular grid: the patch at `rect`, split in four while that is cheaper (paper 3.3).
+// Returns its total cost, or nullopt (nothing placed) when no free wood fits.
+std::optional<double> place_square(int cell, cv::Rect rect, int level, const cv::Mat& f1,
+                                   const cv::Mat& f2, WoodIndex& wood, const Params& p,
+                                   std::vector<Placed>& placed,
+                                   std::vector<SplitDecision>& splits) {
+  const double r = p.px_per_mm;
+  const std::optional<Match> whole = wood.best(f1(rect), f2(rect));
+  if (!whole) return std::nullopt;
+  const int hw = rect.width / 2, hh = rect.height / 2;
+  if (level < p.adaptive_levels && std::min(hw, hh) / r >= kMinPatchMm - 1e-9) {
+    const WoodIndex::Snapshot before = wood.save();
+    const std::size_t placed_before = placed.size(), splits_before = splits.size();
+    const cv::Rect quarters[4] = {{rect.x, rect.y, hw, hh},
+                                  {rect.x + hw, rect.y, rect.width - hw, hh},
+                                  {rect.x, rect.y + hh, hw, rect.height - hh},
+                                  {rect.x + hw, rect.y + hh, rect.width - hw, rect.height - hh}};
+    double sum = 0;
+    for (const cv::Rect& q : quarters) {
+      const std::optional<double> c = place_square(cell, q, level + 1, f1, f2, wood, p, placed, splits);
+      if (!c) {
+        sum = std::numeric_limits<double>::infinity();
+        break;
+      }
+      sum += *c;
+    }
+    SplitDecision d{cv::Rect2d(rect.x / r, rect.y / r, rect.width / r, rect.height / r),
+                    whole->cost, sum, sum < p.adaptive_factor * whole->cost};
+    if (d.split) {
+      splits.push_back(d);
+      return sum;
+    }
+    wood.restore(before);
+    placed.resize(placed_before);
+    splits.resize(splits_before);
+    splits.push_back(d);
+  }
+  take(wood, *whole, rect, corners(rect));
+  placed.push_back({cell, rect, *whole, level, polygon_outline(corners(rect))});
+  return whole->cost;
+}
+
+
+// Overlap reach of refine = dp beyond a cell's core, in px.
+int overlap_half(int patch, const Params& p) {
+  return std::max(1, static_cast<int>(std::lround(p.overlap * patch / 2)));
+}
+
+// The piece's problem, if any, for an outline in result px.
+std::optional<std::string> problem_of(const Outline& outline_px, double r, const Params& p) {
+  std::vector<cv::Point2d> mm = flatten(outline_px, 0.05);
+  for (cv::Point2d& q : mm) q *= 1 / r;
+  return fabricability_problem(mm, kMinPatchMm, p.min_feature_mm);
+}
+
+}  // namespace
+
+Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const Params& p) {
+  Shapes s;
+  s.grid = p.grid;
+  s.refine = p.refine;
+  s.cols = cols;
+  s.rows = rows;
+  s.patch = patch;
+  const cv::Rect all(0, 0, cols * patch, rows * patch);
+  if (p.grid == Grid::morphed) {
+    // Cells keep at least half a patch (and 5 mm) across, so they stay easy to cut and lay.
+    const double min_edge = std::max(kMinPatchMm, p.patch_mm / 2) * p.px_per_mm;
+    s.outlines = cell_outlines(morph_grid(target, cols, rows, patch, min_edge));
+    for (const Outline& o : s.outlines) {
+      const std::vector<cv::Point2d> poly = flatten(o, 0.05);
+      double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+      for (const cv::Point2d& q : poly) {
+        x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+      }
+      const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
+                                     cv::Point(static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1)))) & all;
+      cv::Mat mask = cv::Mat::zeros(rect.size(), CV_8UC1);
+      std::vector<cv::Point> pts;
+      for (const cv::Point2d& q : poly) {
+        pts.emplace_back(static_cast<int>(std::lround((q.x - rect.x - 0.5) * 256)),
+                         static_cast<int>(std::lround((q.y - rect.y - 0.5) * 256)));
+      }
+      cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255), cv::LINE_8, 8);
+      s.rects.push_back(rect);
+      s.masks.push_back(mask);
+      s.wood_px += cv::countNonZero(mask);
+    }
+    return s;
+  }
+  if (p.refine == Refine::dp) s.half = overlap_half(patch, p);
+  SeamInput grid;
+  grid.cols = cols, grid.rows = rows, grid.pitch = patch, grid.half = s.half;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const cv::Rect core(c * patch, r * patch, patch, patch);
+      const cv::Rect rect = p.refine == Refine::dp ? cell_window(grid, c, r) : core;
+      s.rects.push_back(rect);
+      s.outlines.push_back(polygon_outline(corners(core)));
+      s.wood_px += rect.area();
+    }
+  }
+  return s;
+}
+
+bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat& f2,
+                WoodIndex& wood, const Params& p, std::vector<Placed>& placed,
+                std::vector<SplitDecision>& splits) {
+  if (shapes.grid == Grid::regular && shapes.refine == Refine::none) {
+    return place_square(cell, shapes.rects[cell], 0, f1, f2, wood, p, placed, splits).has_value();
+  }
+  const cv::Rect& rect = shapes.rects[cell];
+  const cv::Mat mask = shapes.masks.empty() ? cv::Mat() : shapes.masks[cell];
+  const std::optional<Match> m = wood.best(f1(rect), f2(rect), mask);
+  if (!m) return false;
+  // A morphed cell takes its own shape; a dp window all of it until the cuts are known.
+  if (shapes.grid == Grid::morphed) {
+    take(wood, *m, rect, flatten(shapes.outlines[cell], 0.05));
+  } else {
+    take(wood, *m, rect, corners(rect));
+  }
+  placed.push_back({cell, rect, *m, 0, shapes.outlines[cell]});
+  return true;
+}
+
+SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat& f2,
+                         const WoodIndex& wood, const Params& p, std::vector<Placed>& placed) {
+  if (shapes.refine != Refine::dp) return {};
+  SeamInput in;
+  in.cols = shapes.cols, in.rows = shapes.rows, in.pitch = shapes.patch, in.half = shapes.half;
+  in.target_f1 = f1;
+  in.target_f2 = f2;
+  const std::size_t n = static_cast<std::size_t>(shapes.cols) * shapes.rows;
+  in.wood_f1.resize(n);
+  in.wood_f2.resize(n);
+  std::vector<int> placed_of(n, -1);
+  for (std::size_t k = 0; k < placed.size(); ++k) {
+    const auto [a, b] = wood.features(placed[k].match);
+    in.wood_f1[placed[k].cell] = a;
+    in.wood_f2[placed[k].cell] = b;
+    placed_of[placed[k].cell] = static_cast<int>(k);
+  }
+  Seams seams = refine_seams(in, 2);
+  const SeamCosts costs{seams.straight_cost, seams.refined_cost};
+  const double knot = std::max(2.0, shapes.patch / 3.0);
+  const int W = shapes.cols * shapes.patch, H = shapes.rows * shapes.patch;
+  // A cell whose cuts leave it unfabricable gets straight cuts around it (its square core
+  // grown to the grid lines, always fabricable); a few rounds settle the neighbours.
+  std::vector<Outline> outlines;
+  for (int round = 0; round < 4; ++round) {
+    outlines = cell_outlines(seam_lines(seams, shapes.cols, shapes.rows, shapes.patch, knot));
+    bool changed = false;
+    for (int r = 0; r < shapes.rows; ++r) {
+      for (int c = 0; c < shapes.cols; ++c) {
+        if (!problem_of(outlines[r * shapes.cols + c], p.px_per_mm, p)) continue;
+        const int y0 = std::max(0, r * shapes.patch - shapes.half);
+        const int y1 = std::min(H, (r + 1) * shapes.patch + shapes.half);
+        const int x0 = std::max(0, c * shapes.patch - shapes.half);
+        const int x1 = std::min(W, (c + 1) * shapes.patch + shapes.half);
+        for (int i : {c, c + 1}) {
+          if (i == 0 || i == shapes.cols) continue;
+          for (int y = y0; y < y1; ++y) changed |= std::exchange(seams.vertical[i][y], i * shapes.patch) != i * shapes.patch;
+        }
+        for (int j : {r, r + 1}) {
+          if (j == 0 || j == shapes.rows) continue;
+          for (int x = x0; x < x1; ++x) changed |= std::exchange(seams.horizontal[j][x], j * shapes.patch) != j * shapes.patch;
+        }
+      }
+    }
+    if (!changed) break;
+  }
+  for (std::size_t cell = 0; cell < n; ++cell) {
+    if (placed_of[cell] >= 0) placed[placed_of[cell]].outline_px = outlines[cell];
+  }
+  return costs;
+}
+
+void check_fabricable(const Plan& plan, const Shapes& shapes, const Params& p) {
+  // Squares of the regular grid are at least 5 mm by validate() and the adaptive split rule.
+  if (shapes.grid == Grid::regular && shapes.refine == Refine::none) return;
+  for (const Piece& piece : plan.pieces) {
+    if (auto problem = fabricability_problem(piece.target_mm, kMinPatchMm, p.min_feature_mm)) {
+      throw Unfabricable("parquetry: piece " + std::to_string(piece.id) + " " + *problem +
+                         "; try a larger patch_mm or grid = \"regular\"");
+    }
+  }
+}
+
+}  // namespace atelier::parquetry
