@@ -1,7 +1,13 @@
 // atelier-convert: one job's conversion without the daemon (the daemon runs it as a child).
 //
 //   atelier-convert KIND INPUT OUTPUT_DIR [--params FILE.toml] [--set key=value ...]
-//                   [--progress-fd N] [--max-file-bytes B] [--max-pixels P]
+//                   [--with INPUT2 OUTPUT_DIR2 ...] [--progress-fd N] [--max-file-bytes B]
+//                   [--max-pixels P]
+//
+// --with (repeatable; parquetry only) plans another target together with INPUT on the same
+// wood, in one priority queue (paper 4.2): each target gets its own outputs in its own folder
+// and its own label in the stock (the folder's name). A target's sidecar is not read for --with
+// targets: they share INPUT's parameters.
 //
 // Parameters are layered: --params (the daemon's merged defaults), then `<INPUT>.toml` beside
 // the input when it exists (the sidecar, as in the hot folder), then each --set. Writes the
@@ -106,6 +112,7 @@ int main(int argc, char** argv) {
   CLI::App app{"atelier-convert: convert one input file as an atelier job would"};
   std::string kind, input, output_dir, params_file;
   std::vector<std::string> sets;
+  std::vector<std::vector<std::string>> with;
   int progress_fd = -1;
   atelier::ImageLimits limits;
   app.add_option("KIND", kind, "kind of job (knit: an image; cut: an SVG)")->required();
@@ -115,6 +122,10 @@ int main(int argc, char** argv) {
   app.add_option("--params", params_file, "TOML file of parameters (applied first)");
   app.add_option("--set", sets, "override one parameter, key=value (repeatable)")
       ->allow_extra_args(false);
+  app.add_option("--with", with, "another target planned together: INPUT OUTPUT_DIR (parquetry; repeatable)")
+      ->expected(2)
+      ->allow_extra_args(false)
+      ->take_all();
   app.add_option("--progress-fd", progress_fd, "write \"progress F\" lines to this fd")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-file-bytes", limits.max_file_bytes, "largest input file in bytes");
@@ -124,6 +135,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  }
+  for (const auto& w : with) {
+    if (w.size() != 2) {
+      std::cerr << "error: --with takes two values: INPUT OUTPUT_DIR\n"
+                << "Run with --help for more information.\n";
+      return 2;
+    }
   }
   if (!atelier::is_known_kind(kind)) {
     std::string list;
@@ -163,9 +181,14 @@ int main(int argc, char** argv) {
     req.params_source = "parameters";
     req.output_dir = output_dir;
     req.limits = limits;
+    for (const auto& w : with) req.together.push_back({w.at(0), w.at(1), ""});
     req.progress = [&progress](double f) { progress(f); };
     atelier::ConvertResult result = atelier::convert(req);
     copy_input(in, output_dir, result.outputs);
+    for (const auto& extra : req.together) {
+      // Each target's folder holds its own input, like a job's done/<id>/ folder.
+      copy_input(extra.input, extra.output_dir, result.outputs);
+    }
   } catch (const ConvertError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

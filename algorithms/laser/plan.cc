@@ -246,3 +246,43 @@ Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
 }
 
 }  // namespace atelier::laser
+
+namespace atelier::laser {
+
+Job join_jobs(const std::vector<Job>& jobs, const std::vector<std::vector<std::string>>& notes,
+              const Machine& machine) {
+  if (jobs.empty()) throw PlanError("join_jobs: no jobs");
+  if (notes.size() != jobs.size()) throw PlanError("join_jobs: one list of notes per job");
+  Job out;
+  for (const Job& j : jobs) {
+    out.bounds.add(j.bounds);
+    out.layers.insert(out.layers.end(), j.layers.begin(), j.layers.end());
+    out.toolpaths.insert(out.toolpaths.end(), j.toolpaths.begin(), j.toolpaths.end());
+    out.cut_length_mm += j.cut_length_mm;
+    out.engrave_length_mm += j.engrave_length_mm;
+    out.travel_length_mm += j.travel_length_mm;
+    out.estimated_s += j.estimated_s;
+  }
+  GcodeWriter g;
+  g.line("; atelier laser job");
+  g.line("; s_max=" + format_number(machine.s_max));
+  g.line("; bounds=" + format_number(out.bounds.min_x) + "," + format_number(out.bounds.min_y) +
+         "," + format_number(out.bounds.max_x) + "," + format_number(out.bounds.max_y));
+  g.line("G21 G90");
+  std::string text = g.take();
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    // Notes are comments, which GRBL never sees: kept whole, however long the sheet's name.
+    for (const std::string& note : notes[i]) text += "; " + printable(note) + "\n";
+    if (i > 0) text += "M0\n";
+    // The job's body: what plan_job wrote after its own header (the four lines above). Each
+    // body starts with its layer comment and a full G0 X Y, and ends with M5.
+    const std::string& gc = jobs[i].gcode;
+    size_t at = gc.find("\nG21 G90\n");
+    if (at == std::string::npos) throw PlanError("join_jobs: job " + std::to_string(i) + " was not made by plan_job");
+    text += gc.substr(at + 9);
+  }
+  out.gcode = std::move(text);
+  return out;
+}
+
+}  // namespace atelier::laser

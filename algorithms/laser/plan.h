@@ -101,6 +101,16 @@ class PlanError : public std::runtime_error {
 // area ..."), so that nothing is ever sent for such a job.
 Job plan_job(const std::vector<Layer>& layers, const Machine& machine);
 
+// Several jobs as one program, run one after another, e.g. one veneer sheet each: the
+// operator swaps the material while GRBL waits in a program pause. One header (`; s_max=`,
+// `; bounds=` = the union of the jobs' bounds, `G21 G90`), then per job: the comment lines
+// `notes[i]` (each written as "; <note>"), for every job but the first an `M0` (program pause:
+// GRBL holds until cycle start), and the job's moves as plan_job wrote them (each ends with
+// M5, so the beam is off while paused). Statistics are summed, layers and toolpaths
+// concatenated in order. Throws PlanError for no jobs or notes.size() != jobs.size().
+Job join_jobs(const std::vector<Job>& jobs, const std::vector<std::vector<std::string>>& notes,
+              const Machine& machine);
+
 // "12.5", "-3", "0.001": at most 3 decimals, trailing zeros stripped, never "-0".
 std::string format_number(double value);
 

@@ -6,6 +6,8 @@
 #include "daemon/convert/knit_job.h"
 #include "daemon/convert/knit_params.h"
 #include "daemon/convert/param_table.h"
+#include "daemon/convert/parquetry_job.h"
+#include "daemon/convert/parquetry_params.h"
 
 namespace atelier {
 namespace {
@@ -19,7 +21,7 @@ std::string kind_list() {
 }  // namespace
 
 const std::vector<std::string>& known_kinds() {
-  static const std::vector<std::string> kinds{"knit", "cut"};
+  static const std::vector<std::string> kinds{"knit", "cut", "parquetry"};
   return kinds;
 }
 
@@ -38,6 +40,10 @@ void validate_kind_params(const std::string& kind, const toml::table& params,
     read_cut_params(params, source);
     return;
   }
+  if (kind == "parquetry") {
+    read_parquetry_params(params, source);
+    return;
+  }
   throw ParamError(source + ": unknown kind '" + kind + "' (known: " + kind_list() + ")");
 }
 
@@ -46,9 +52,14 @@ ConvertResult convert(const ConvertRequest& request) {
     throw ConvertError(request.input.filename().string() + ": unknown kind '" + request.kind +
                        "' (known: " + kind_list() + ")");
   }
+  if (!request.together.empty() && request.kind != "parquetry") {
+    throw ConvertError(request.input.filename().string() + ": only parquetry converts several "
+                       "targets together, not " + request.kind);
+  }
   // OpenCV reports bad data (and its own limits) by exception; the user sees the file name.
   try {
     if (request.kind == "cut") return convert_cut(request);
+    if (request.kind == "parquetry") return convert_parquetry(request);
     return convert_knit(request);
   } catch (const cv::Exception& e) {
     throw ConvertError(request.input.filename().string() + ": image processing failed: " +

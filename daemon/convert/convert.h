@@ -32,6 +32,14 @@ bool is_known_kind(const std::string& kind);
 void validate_kind_params(const std::string& kind, const toml::table& params,
                           const std::string& source);
 
+// Another target converted together with the primary one (parquetry only, paper 4.2: the
+// targets' patches share one priority queue on the same wood). Outputs go to output_dir;
+// `job` labels its pieces in the stock ("" = output_dir's name).
+struct ExtraTarget {
+  std::filesystem::path input, output_dir;
+  std::string job;
+};
+
 struct ConvertRequest {
   std::string kind;
   std::filesystem::path input;        // the image (or job file); read only
@@ -39,6 +47,9 @@ struct ConvertRequest {
   std::string params_source = "parameters";  // for error messages
   std::filesystem::path output_dir;   // created if missing; outputs are written here
   ImageLimits limits;
+  // Further targets planned with this one (kind parquetry only; ConvertError otherwise).
+  // Each gets its own outputs; the result describes the primary target.
+  std::vector<ExtraTarget> together;
   // Fraction done in [0, 1]; may be empty. Called from the converting thread.
   std::function<void(double)> progress;
 };
