@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "algorithms/parquetry/fabricability.h"
 #include "algorithms/parquetry/plan.h"
 
 namespace atelier::parquetry {
@@ -109,15 +110,20 @@ TEST(ParquetryPlan, CoversTheTargetWithPiecesOnFreeUsableWood) {
 
   // The target squares tile the result exactly: no overlap, nothing left out.
   double area = 0;
-  cv::Mat cover = cv::Mat::zeros(cvRound(plan.height_mm * 4), cvRound(plan.width_mm * 4), CV_16UC1);
+  // fillPoly draws boundary pixels into both neighbours: cover counts whole outlines, inner
+  // counts them shrunk by a pixel.
+  const cv::Size at4(cvRound(plan.width_mm * 4), cvRound(plan.height_mm * 4));
+  cv::Mat cover = cv::Mat::zeros(at4, CV_16UC1), inner = cv::Mat::zeros(at4, CV_16UC1);
   for (const Piece& a : plan.pieces) {
     ASSERT_EQ(a.target_mm.size(), 4u);
     area += std::abs(polygon_area(a.target_mm));
     rasterise(cover, a.target_mm, 4.0, 0.0);
+    rasterise(inner, a.target_mm, 4.0, 1.0);
   }
   EXPECT_NEAR(area, plan.width_mm * plan.height_mm, 1e-6);
   double lo = 0, hi = 0;
-  cv::minMaxLoc(cover, &lo, &hi);
+  cv::minMaxLoc(cover, &lo, nullptr);
+  cv::minMaxLoc(inner, nullptr, &hi);
   EXPECT_EQ(lo, 1);
   EXPECT_EQ(hi, 1);
 
@@ -287,6 +293,98 @@ TEST(ParquetryPlan, RunningOutOfWoodSaysHowMuchWasNeeded) {
   } catch (const OutOfWood& e) {
     EXPECT_NE(std::string(e.what()).find("no free window of 14"), std::string::npos) << e.what();
   }
+}
+
+
+// Smallest distance between the edges of two polygons that do not overlap.
+double gap(const std::vector<cv::Point2d>& a, const std::vector<cv::Point2d>& b) {
+  auto to_segment = [](cv::Point2d p, cv::Point2d s0, cv::Point2d s1) {
+    const cv::Point2d d = s1 - s0;
+    const double t = std::clamp((p - s0).dot(d) / std::max(1e-12, d.dot(d)), 0.0, 1.0);
+    return cv::norm(p - (s0 + t * d));
+  };
+  double best = 1e300;
+  for (int pass = 0; pass < 2; ++pass) {
+    const auto& u = pass ? a : b;
+    const auto& v = pass ? b : a;
+    for (const cv::Point2d& p : u) {
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        best = std::min(best, to_segment(p, v[i], v[(i + 1) % v.size()]));
+      }
+    }
+  }
+  return best;
+}
+
+TEST(ParquetryPlan, PiecesOnASheetKeepTheKerfBetweenThem) {
+  const auto sheets = real_wood(false);
+  Params p = small_params();
+  p.kerf_mm = 1.5;
+  const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+  int pairs = 0;
+  for (const Piece& a : plan.pieces) {
+    for (const Piece& b : plan.pieces) {
+      if (a.id < b.id && a.sheet_id == b.sheet_id) {
+        EXPECT_GE(gap(a.source_mm, b.source_mm), p.kerf_mm - 1e-6) << a.id << " and " << b.id;
+        ++pairs;
+      }
+    }
+  }
+  EXPECT_GT(pairs, 0);
+  // A second plan keeps the kerf from the first one's pieces too.
+  const Plan second = make_plan(photo("fruits.jpg"), sheets, with_plan({}, plan, "1"), p);
+  for (const Piece& a : plan.pieces) {
+    for (const Piece& b : second.pieces) {
+      if (a.sheet_id == b.sheet_id) EXPECT_GE(gap(a.source_mm, b.source_mm), p.kerf_mm - 1e-6);
+    }
+  }
+}
+
+// Morphed grids and dp cuts: curved pieces that tile the result, each cuttable, none sharing
+// wood, and the wood shown is the wood cut.
+class ParquetryShapes : public ::testing::TestWithParam<int> {};
+
+TEST_P(ParquetryShapes, CurvedPiecesTileTheResultAndCanBeCut) {
+  const auto sheets = real_wood(false);
+  Params p = small_params();
+  if (GetParam() == 0) p.grid = Grid::morphed;
+  if (GetParam() == 1) p.refine = Refine::dp;
+  const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
+  ASSERT_EQ(plan.pieces.size(), 49u);
+  double area = 0;
+  int curved = 0;
+  for (const Piece& piece : plan.pieces) {
+    area += std::abs(polygon_area(piece.target_mm));
+    curved += piece.target_mm.size() > 4;
+    EXPECT_EQ(fabricability_problem(piece.target_mm, kMinPatchMm, p.min_feature_mm), std::nullopt)
+        << "piece " << piece.id;
+    // The source is the target moved rigidly: same area, same shape.
+    EXPECT_NEAR(std::abs(polygon_area(piece.source_mm)), std::abs(polygon_area(piece.target_mm)), 1e-6);
+  }
+  EXPECT_NEAR(area, plan.width_mm * plan.height_mm, 1e-3 * area);
+  EXPECT_GT(curved, 10);  // the shapes really changed
+  EXPECT_LE(most_pieces_on_a_pixel(plan.pieces, sheets), 1);
+  if (GetParam() == 1) {
+    EXPECT_LE(plan.seam_cost_refined, plan.seam_cost_straight);
+    EXPECT_LT(plan.seam_cost_refined, plan.seam_cost_straight);  // it found better cuts
+  }
+  EXPECT_LT(plan.error, plan.baseline_error);
+}
+INSTANTIATE_TEST_SUITE_P(MorphedAndDp, ParquetryShapes, ::testing::Values(0, 1));
+
+TEST(ParquetryPlan, SeveralTargetsPlannedTogetherShareNoWood) {
+  const auto sheets = real_wood(false);
+  Params p = small_params();
+  p.size_mm = 70;
+  const std::vector<Plan> plans =
+      make_plans({photo("fruits.jpg"), photo("butterfly.jpg")}, sheets, Stock{}, p);
+  ASSERT_EQ(plans.size(), 2u);
+  std::vector<Piece> both = plans[0].pieces;
+  both.insert(both.end(), plans[1].pieces.begin(), plans[1].pieces.end());
+  EXPECT_EQ(plans[0].pieces.size(), 5u * 5u);
+  EXPECT_EQ(plans[1].pieces.size(), 6u * 5u);  // 493x356: 6 x 5 patches of 14 mm
+  EXPECT_LE(most_pieces_on_a_pixel(both, sheets), 1);
+  for (const Plan& plan : plans) EXPECT_LT(plan.error, plan.baseline_error);
 }
 
 TEST(ParquetryPlan, RejectsBadParametersAndStocks) {
