@@ -81,27 +81,17 @@ Layers laser_layers(const LaserParams& lp, double kerf_mm, const std::string& so
   return l;
 }
 
-// Where a sheet lies on the bed: face down, its mirrored frame's corner at the machine's
-// origin corner (design coordinates, laser/plan.h: x right, y down from the rear).
+// Where a sheet lies on the bed: face down, its mirrored frame (the cut file) at the origin
+// of the laser's design coordinates (laser/plan.h: the bed's rear-left corner, x right, y
+// towards the front), like any SVG cut there. `margin` keeps it off the bed's edges: a piece
+// at the sheet's edge is cut kerf/2 outside it, and the work area must hold that path too.
 struct Placement {
   double x0 = 0, y0 = 0;
-  std::string corner;  // the scan's corner (as seen from the face) at the origin
 };
 
-// The sheet sits `margin` off the bed's edges: a piece at the sheet's edge is cut kerf/2
-// outside it, and the work area must hold that path too.
 double bed_margin(double kerf_mm) { return kerf_mm + 0.05; }
 
-Placement place(const SheetCuts& cuts, const laser::Machine& m, double margin) {
-  const bool right = m.origin == laser::Origin::front_right || m.origin == laser::Origin::rear_right;
-  const bool front = m.origin == laser::Origin::front_left || m.origin == laser::Origin::front_right;
-  Placement p;
-  p.x0 = right ? m.width_mm - margin - cuts.width_mm : margin;
-  p.y0 = front ? m.height_mm - margin - cuts.height_mm : margin;
-  // Mirrored: the bed's left edge holds the scan's right edge.
-  p.corner = std::string(front ? "bottom" : "top") + "-" + (right ? "left" : "right");
-  return p;
-}
+Placement place(double margin) { return {margin, margin}; }
 
 laser::Job sheet_job(const SheetCuts& cuts, const Placement& at, const Layers& layers,
                      const LaserParams& lp) {
@@ -188,7 +178,7 @@ json write_target(const Target& t, const parquetry::Plan& plan,
                          laser::format_number(m.width_mm) + " x " + laser::format_number(m.height_mm) +
                          " mm work area; cut the board down and scan it again");
     }
-    places.push_back(place(c, m, margin));
+    places.push_back(place(margin));
   }
 
   // One program: each sheet engraved then cut, a program pause between sheets.
@@ -201,10 +191,11 @@ json write_target(const Target& t, const parquetry::Plan& plan,
       throw ConvertError(input_name + ": sheet '" + cuts[i].sheet_id + "': " + e.what());
     }
     const std::string& id = cuts[i].sheet_id;
-    notes.push_back({"sheet " + id + ": place it face down at the origin" +
-                         (i == 0 ? std::string(" before starting") : std::string(", then resume")),
-                     "its " + places[i].corner + " corner (as scanned) at the " +
-                         laser::origin_name(m.origin) + " origin"});
+    // The driver shows the comment just before an M0 to the operator: the instruction last.
+    notes.push_back({"sheet " + id + ": its top-right corner as scanned (face up) goes in the "
+                     "bed's rear-left corner",
+                     "sheet " + id + ": place it face down at the origin" +
+                         (i == 0 ? std::string(" before starting") : std::string(", then resume"))});
   }
   laser::Job program;
   if (!jobs.empty()) {
@@ -242,8 +233,8 @@ json write_target(const Target& t, const parquetry::Plan& plan,
                           {"pieces", ids},
                           {"bed", {{"face_down", true},
                                    {"mirrored", true},
-                                   {"origin", laser::origin_name(m.origin)},
-                                   {"corner_at_origin", places[i].corner},
+                                   {"bed_corner", "rear-left"},
+                                   {"scan_corner", "top-right"},
                                    {"x_mm", round3(places[i].x0)},
                                    {"y_mm", round3(places[i].y0)}}}});
   }

@@ -17,8 +17,10 @@
 //   cuts.gcode       every used sheet in turn (sorted by id): engrave its IDs (the #0000ff
 //                    layer), cut its pieces (the #ff0000 layer, kerf_mm = the parquetry
 //                    kerf_mm so pieces keep their size), the sheet face down with its mirrored
-//                    frame's corner at the machine's origin corner (kerf_mm + 0.05 mm off the bed's edges, so
-//                    the kerf offset of an edge piece stays in the work area); between sheets a program
+//                    frame (= its cut file) at the laser's design origin, the bed's rear-left
+//                    corner (laser/plan.h), kerf_mm + 0.05 mm off the edges so the kerf offset
+//                    of an edge piece stays in the work area: the scan's top-right corner lies
+//                    in the bed's rear-left corner; between sheets a program
 //                    pause (M0) after "; sheet <id>: place it face down at the origin, then
 //                    resume" comments. One header: s_max, bounds = the union.
 //   preview.png      the result rendered from the scans (algorithms/parquetry/render.h)
