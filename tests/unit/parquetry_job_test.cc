@@ -3,6 +3,7 @@
 // several targets together, and the errors a user meets.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -373,6 +374,28 @@ TEST_F(ParquetryJobTest, TargetsConvertedTogetherShareNoWood) {
   cut.output_dir = dir_ / "c";
   cut.together.push_back({kData / "fruits.jpg", dir_ / "d", ""});
   EXPECT_THROW(convert(cut), ConvertError);
+}
+
+// atelier-convert --with INPUT OUTPUT_DIR: one more target planned together, in its own folder
+// with its own input copy; --with needs both values.
+TEST_F(ParquetryJobTest, CommandLineToolPlansTargetsGivenWithTogether) {
+  const std::string tool = std::string(ATELIER_BINARY_DIR) + "/bin/atelier-convert";
+  ASSERT_TRUE(fs::exists(tool));
+  const std::string sets = " --set wood=" + kWood.string() +
+                           " --set dpi=25.4 --set size_mm=84 --set rotations=4";
+  std::string cmd = tool + " parquetry " + (kData / "fruits.jpg").string() + " " + (dir_ / "a").string() +
+                    sets + " --with " + (kData / "HappyFish.jpg").string() + " " + (dir_ / "b").string() +
+                    " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "a" / "fruits.jpg"));
+  EXPECT_TRUE(fs::exists(dir_ / "b" / "HappyFish.jpg"));
+  EXPECT_EQ(read_json(dir_ / "b" / "report.json")["job"], "b");
+  EXPECT_EQ(read_json(dir_ / "a" / "plan.json")["job"], "a");
+  cmd = tool + " parquetry " + (kData / "fruits.jpg").string() + " " + (dir_ / "c").string() + sets +
+        " --with " + (kData / "HappyFish.jpg").string() + " >/dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2) << "--with takes INPUT OUTPUT_DIR";
 }
 
 // The preview takes each piece's wood from under its source outline: a 10 mm piece whose
