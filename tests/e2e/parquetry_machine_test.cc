@@ -209,11 +209,13 @@ TEST(E2EParquetry, APhotoIsCutSheetBySheetWithPausesAndASecondPlansOnFreeWood) {
   // `wood reset --job` frees the first job's wood and nothing else.
   json reset = rig.daemon->request("wood", {{"action", "reset"}, {"job", id}});
   ASSERT_TRUE(reset["ok"]) << reset.dump();
-  for (const auto& [sheet, pieces] : rig.stock()["sheets"].items())
+  // (The stock is kept in a variable: items() of a temporary would dangle.)
+  const json after_reset = rig.stock();
+  for (const auto& [sheet, pieces] : after_reset["sheets"].items())
     for (const auto& p : pieces) EXPECT_EQ(p["job"], id2.dump());
   // A sheet with pieces on it is not removed without --force.
   std::string busy_sheet;
-  for (const auto& [sheet, pieces] : rig.stock()["sheets"].items())
+  for (const auto& [sheet, pieces] : after_reset["sheets"].items())
     if (!pieces.empty()) busy_sheet = sheet;
   ASSERT_FALSE(busy_sheet.empty());
   json refused = rig.daemon->request("wood", {{"action", "remove"}, {"id", busy_sheet}});
