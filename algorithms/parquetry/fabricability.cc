@@ -108,8 +108,14 @@ std::optional<std::string> fabricability_problem(const std::vector<cv::Point2d>&
 
     if (min_feature_mm * ppm < 1) return std::nullopt;  // no feature is below one raster pixel
     cv::Mat opened, removed, stats, centroids;
-    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {disc, disc});
-    cv::morphologyEx(raster, opened, cv::MORPH_OPEN, kernel, {-1, -1}, 1, cv::BORDER_CONSTANT, 0);
+    // Opening by a Euclidean disc through two distance transforms (linear time, where a
+    // morphological opening with a 40 px elliptic kernel costs ~kernel width per pixel):
+    // erode = centres at least r inside, then everything within r of them.
+    const double r = disc / 2.0;
+    const cv::Mat outside_eroded = dist < r;
+    cv::Mat to_eroded;
+    cv::distanceTransform(outside_eroded, to_eroded, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+    opened = (to_eroded <= r) & raster;
     const double limit_px = min_feature_mm * min_feature_mm / 2 * ppm * ppm;
     // Parts that only hang together through something thinner than the minimum feature
     // (a neck the disc cannot pass) come apart in the cutting or the sanding.

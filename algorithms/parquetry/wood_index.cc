@@ -163,50 +163,12 @@ int WoodIndex::ensure_valid(Copy& c, int pw, int ph) {
   return c.valid_count[key];
 }
 
-std::optional<Match> WoodIndex::best_masked(const cv::Mat& f1, const cv::Mat& f2,
-                                            const cv::Mat& mask) {
+std::vector<double> WoodIndex::lower_bounds(const cv::Mat& f1, const cv::Mat& f2) {
   const int pw = f1.cols, ph = f1.rows;
   const SizeKey key{pw, ph};
-  cv::Mat m;
-  cv::Mat(mask > 0).convertTo(m, CV_32F, 1.0 / 255);
-  const cv::Mat mf1 = f1.mul(m), mf2 = f2.mul(m);
-  const double tsq = mf1.dot(f1) + mf2.dot(f2);
-  // Eq. 4 over the mask: sum m (T - S)^2 = sum m T^2 - 2 corr(m T, S) + corr(m, S^2).
-  std::vector<Match> found(copies_.size());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(copies_.size())), [&](const cv::Range& r) {
-    thread_local cv::Mat corr, prod, wsq, score;
-    for (int i = r.start; i < r.end; ++i) {
-      Copy& c = *copies_[i];
-      if (ensure_valid(c, pw, ph) == 0) continue;
-      const cv::Mat& valid = c.valid[key];
-      const cv::Rect roi(0, 0, valid.cols, valid.rows);
-      cv::filter2D(c.f1, corr, CV_32F, mf1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-      cv::filter2D(c.f2, prod, CV_32F, mf2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-      corr += prod;
-      cv::filter2D(c.sq, wsq, CV_32F, m, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-      cv::scaleAdd(corr(roi), -2.0, wsq(roi), score);
-      double lo = 0;
-      cv::Point at;
-      cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
-      found[i] = Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
-    }
-  });
-  std::optional<Match> best;
-  for (const Match& f : found) {
-    if (f.copy >= 0 && (!best || f.cost < best->cost)) best = f;
-  }
-  return best;
-}
-
-std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask) {
-  if (!mask.empty() && static_cast<std::size_t>(cv::countNonZero(mask)) < mask.total()) return best_masked(f1, f2, mask);
-  const int pw = f1.cols, ph = f1.rows;
-  const SizeKey key{pw, ph};
-  const double tsq = f1.dot(f1) + f2.dot(f2);
-
   const double t1 = cv::sum(f1)[0], t2 = cv::sum(f2)[0], n = static_cast<double>(pw) * ph;
 
-  // Pass 1, per copy: which windows are free (O(1) per window from the integral image), and a
+  // Per copy: which windows are free (O(1) per window from the integral image), and a
   // lower bound of eq. 4 over them: SSD >= (sum of differences)^2 / n, per feature.
   std::vector<double> bound(copies_.size(), std::numeric_limits<double>::infinity());
   cv::parallel_for_(cv::Range(0, static_cast<int>(copies_.size())), [&](const cv::Range& r) {
@@ -234,6 +196,106 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const
       bound[i] = lo / n;
     }
   });
+
+  return bound;
+}
+
+namespace {
+
+// A rectangle wholly inside the mask's non-zero pixels (greedy: the bounding box shrunk from
+// the side with the most masked-out pixels until none is left). Empty if there is none.
+cv::Rect inner_rect(const cv::Mat& mask) {
+  cv::Rect r(0, 0, mask.cols, mask.rows);
+  while (r.width > 0 && r.height > 0) {
+    const cv::Mat in = mask(r) == 0;
+    const int top = r.width - cv::countNonZero(mask(cv::Rect(r.x, r.y, r.width, 1)));
+    const int bottom = r.width - cv::countNonZero(mask(cv::Rect(r.x, r.y + r.height - 1, r.width, 1)));
+    const int left = r.height - cv::countNonZero(mask(cv::Rect(r.x, r.y, 1, r.height)));
+    const int right = r.height - cv::countNonZero(mask(cv::Rect(r.x + r.width - 1, r.y, 1, r.height)));
+    if (cv::countNonZero(in) == 0) return r;
+    const int most = std::max({top, bottom, left, right});
+    if (most == top) { ++r.y; --r.height; }
+    else if (most == bottom) { --r.height; }
+    else if (most == left) { ++r.x; --r.width; }
+    else { --r.width; }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::optional<Match> WoodIndex::best_masked(const cv::Mat& f1, const cv::Mat& f2,
+                                            const cv::Mat& mask) {
+  const int pw = f1.cols, ph = f1.rows;
+  const SizeKey key{pw, ph};
+  cv::Mat m;
+  cv::Mat(mask > 0).convertTo(m, CV_32F, 1.0 / 255);
+  const cv::Mat mf1 = f1.mul(m), mf2 = f2.mul(m);
+  const double tsq = mf1.dot(f1) + mf2.dot(f2);
+
+  // Pruning: eq. 4 over the mask is at least eq. 4 over a rectangle inside it, whose bound
+  // per copy comes from integral images (pass 1 of best()). Copies without a free window of
+  // the full size are dropped.
+  std::vector<double> bound(copies_.size(), 0.0);
+  if (const cv::Rect in = inner_rect(mask); in.area() > 0) bound = lower_bounds(f1(in), f2(in));
+  std::vector<int> by_bound;
+  for (std::size_t i = 0; i < copies_.size(); ++i) {
+    if (std::isfinite(bound[i]) && ensure_valid(*copies_[i], pw, ph) > 0) {
+      by_bound.push_back(static_cast<int>(i));
+    }
+  }
+  if (by_bound.empty()) return std::nullopt;
+  std::stable_sort(by_bound.begin(), by_bound.end(),
+                   [&](int a, int b) { return bound[a] < bound[b]; });
+
+  // Eq. 4 over the mask: sum m (T - S)^2 = sum m T^2 - 2 corr(m T, S) + corr(m, S^2), in
+  // batches of copies, best bound first.
+  std::vector<Match> found(copies_.size());
+  double best_cost = std::numeric_limits<double>::infinity();
+  const int batch = std::max(2, 2 * cv::getNumThreads());
+  for (std::size_t start = 0; start < by_bound.size(); start += batch) {
+    if (bound[by_bound[start]] >= best_cost) break;
+    const std::size_t end = std::min(by_bound.size(), start + batch);
+    cv::parallel_for_(cv::Range(static_cast<int>(start), static_cast<int>(end)),
+                      [&](const cv::Range& r) {
+      thread_local cv::Mat corr, prod, wsq, score;
+      for (int j = r.start; j < r.end; ++j) {
+        const int i = by_bound[j];
+        if (bound[i] >= best_cost) continue;
+        Copy& c = *copies_[i];
+        const cv::Mat& valid = c.valid[key];
+        const cv::Rect roi(0, 0, valid.cols, valid.rows);
+        cv::filter2D(c.f1, corr, CV_32F, mf1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+        cv::filter2D(c.f2, prod, CV_32F, mf2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+        corr += prod;
+        cv::filter2D(c.sq, wsq, CV_32F, m, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+        cv::scaleAdd(corr(roi), -2.0, wsq(roi), score);
+        double lo = 0;
+        cv::Point at;
+        cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
+        found[i] = Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
+      }
+    });
+    for (std::size_t j = start; j < end; ++j) {
+      const Match& f = found[by_bound[j]];
+      if (f.copy >= 0) best_cost = std::min(best_cost, f.cost);
+    }
+  }
+  std::optional<Match> best;
+  for (const Match& f : found) {
+    if (f.copy >= 0 && (!best || f.cost < best->cost)) best = f;
+  }
+  return best;
+}
+
+std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask) {
+  if (!mask.empty() && static_cast<std::size_t>(cv::countNonZero(mask)) < mask.total()) return best_masked(f1, f2, mask);
+  const int pw = f1.cols, ph = f1.rows;
+  const SizeKey key{pw, ph};
+  const double tsq = f1.dot(f1) + f2.dot(f2);
+
+  // Pass 1: a lower bound of eq. 4 per copy.
+  const std::vector<double> bound = lower_bounds(f1, f2);
 
   // Copies by their bound; those that cannot beat the best found so far are skipped.
   std::vector<int> by_bound;

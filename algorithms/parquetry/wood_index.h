@@ -9,7 +9,8 @@
 // the rows holding window positions). Used wood is rasterised into every rotated mask when a
 // piece is taken; an integral image of each mask rejects windows touching used or unusable
 // wood in O(1), cached per window size until the sheet changes. Masked patches (cells that
-// are not rectangles) are correlated directly, three correlations per copy, unpruned. An exact lower bound per copy,
+// are not rectangles) are correlated directly, three correlations per copy, pruned by the bound of a rectangle
+// inside the mask. An exact lower bound per copy,
 // (sum of differences)^2 / n per feature over its free windows, orders the copies and skips
 // those that cannot beat the best found so far (about 70% of them). Copies are searched in
 // parallel batches (cv::parallel_for_).
@@ -89,6 +90,9 @@ class WoodIndex {
   static void refresh(Copy& c);
   // Windows of size `key` wholly on free wood in `c` (255), cached; returns their count.
   static int ensure_valid(Copy& c, int pw, int ph);
+  // Per copy: a lower bound of eq. 4 for patch (f1, f2) over its free windows (infinite
+  // where none is free): (sum of differences)^2 / n per feature, from integral images.
+  std::vector<double> lower_bounds(const cv::Mat& f1, const cv::Mat& f2);
   std::optional<Match> best_masked(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask);
 
   double px_per_mm_;
