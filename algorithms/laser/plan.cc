@@ -109,6 +109,15 @@ void check_work_area(const Bounds& design, const Machine& m) {
                   " with the origin " + origin_name(m.origin) + ")");
 }
 
+// The program's header: the comments the driver reads (s_max, bounds), then units and mode.
+void write_header(GcodeWriter& g, const Machine& machine, const Bounds& bounds) {
+  g.line("; atelier laser job");
+  g.line("; s_max=" + format_number(machine.s_max));
+  g.line("; bounds=" + format_number(bounds.min_x) + "," + format_number(bounds.min_y) + "," +
+         format_number(bounds.max_x) + "," + format_number(bounds.max_y));
+  g.line("G21 G90");
+}
+
 }  // namespace
 
 const char* mode_name(Mode mode) { return mode == Mode::cut ? "cut" : "engrave"; }
@@ -199,11 +208,7 @@ Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
       }
 
   GcodeWriter g;
-  g.line("; atelier laser job");
-  g.line("; s_max=" + format_number(machine.s_max));
-  g.line("; bounds=" + format_number(job.bounds.min_x) + "," + format_number(job.bounds.min_y) +
-         "," + format_number(job.bounds.max_x) + "," + format_number(job.bounds.max_y));
-  g.line("G21 G90");
+  write_header(g, machine, job.bounds);
   Point at{0, 0};
   for (size_t li = 0; li < job.toolpaths.size(); ++li) {
     const PlannedLayer& layer = job.toolpaths[li];
@@ -264,11 +269,7 @@ Job join_jobs(const std::vector<Job>& jobs, const std::vector<std::vector<std::s
     out.estimated_s += j.estimated_s;
   }
   GcodeWriter g;
-  g.line("; atelier laser job");
-  g.line("; s_max=" + format_number(machine.s_max));
-  g.line("; bounds=" + format_number(out.bounds.min_x) + "," + format_number(out.bounds.min_y) +
-         "," + format_number(out.bounds.max_x) + "," + format_number(out.bounds.max_y));
-  g.line("G21 G90");
+  write_header(g, machine, out.bounds);
   std::string text = g.take();
   for (size_t i = 0; i < jobs.size(); ++i) {
     // Notes are comments, which GRBL never sees: kept whole, however long the sheet's name.

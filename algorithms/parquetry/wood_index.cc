@@ -1,6 +1,7 @@
 #include "algorithms/parquetry/wood_index.h"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -238,42 +239,51 @@ std::optional<Match> WoodIndex::best_masked(const cv::Mat& f1, const cv::Mat& f2
   // the full size are dropped.
   std::vector<double> bound(copies_.size(), 0.0);
   if (const cv::Rect in = inner_rect(mask); in.area() > 0) bound = lower_bounds(f1(in), f2(in));
+  for (std::size_t i = 0; i < copies_.size(); ++i) {
+    if (ensure_valid(*copies_[i], pw, ph) == 0) bound[i] = std::numeric_limits<double>::infinity();
+  }
+
+  // Eq. 4 over the mask: sum m (T - S)^2 = sum m T^2 - 2 corr(m T, S) + corr(m, S^2).
+  return search(bound, nullptr, [&](int i, std::size_t) {
+    thread_local cv::Mat corr, prod, wsq, score;
+    Copy& c = *copies_[i];
+    const cv::Mat& valid = c.valid[key];
+    const cv::Rect roi(0, 0, valid.cols, valid.rows);
+    cv::filter2D(c.f1, corr, CV_32F, mf1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+    cv::filter2D(c.f2, prod, CV_32F, mf2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+    corr += prod;
+    cv::filter2D(c.sq, wsq, CV_32F, m, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+    cv::scaleAdd(corr(roi), -2.0, wsq(roi), score);
+    double lo = 0;
+    cv::Point at;
+    cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
+    return Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
+  });
+}
+
+std::optional<Match> WoodIndex::search(
+    const std::vector<double>& bound,
+    const std::function<void(const std::vector<int>&, std::size_t, std::size_t)>& prepare,
+    const std::function<Match(int, std::size_t)>& score) {
   std::vector<int> by_bound;
   for (std::size_t i = 0; i < copies_.size(); ++i) {
-    if (std::isfinite(bound[i]) && ensure_valid(*copies_[i], pw, ph) > 0) {
-      by_bound.push_back(static_cast<int>(i));
-    }
+    if (std::isfinite(bound[i])) by_bound.push_back(static_cast<int>(i));
   }
   if (by_bound.empty()) return std::nullopt;
   std::stable_sort(by_bound.begin(), by_bound.end(),
                    [&](int a, int b) { return bound[a] < bound[b]; });
-
-  // Eq. 4 over the mask: sum m (T - S)^2 = sum m T^2 - 2 corr(m T, S) + corr(m, S^2), in
-  // batches of copies, best bound first.
   std::vector<Match> found(copies_.size());
   double best_cost = std::numeric_limits<double>::infinity();
   const int batch = std::max(2, 2 * cv::getNumThreads());
   for (std::size_t start = 0; start < by_bound.size(); start += batch) {
     if (bound[by_bound[start]] >= best_cost) break;
     const std::size_t end = std::min(by_bound.size(), start + batch);
+    if (prepare) prepare(by_bound, start, end);
     cv::parallel_for_(cv::Range(static_cast<int>(start), static_cast<int>(end)),
                       [&](const cv::Range& r) {
-      thread_local cv::Mat corr, prod, wsq, score;
       for (int j = r.start; j < r.end; ++j) {
         const int i = by_bound[j];
-        if (bound[i] >= best_cost) continue;
-        Copy& c = *copies_[i];
-        const cv::Mat& valid = c.valid[key];
-        const cv::Rect roi(0, 0, valid.cols, valid.rows);
-        cv::filter2D(c.f1, corr, CV_32F, mf1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-        cv::filter2D(c.f2, prod, CV_32F, mf2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-        corr += prod;
-        cv::filter2D(c.sq, wsq, CV_32F, m, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-        cv::scaleAdd(corr(roi), -2.0, wsq(roi), score);
-        double lo = 0;
-        cv::Point at;
-        cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
-        found[i] = Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
+        if (bound[i] < best_cost) found[i] = score(i, static_cast<std::size_t>(j - start));
       }
     });
     for (std::size_t j = start; j < end; ++j) {
@@ -297,15 +307,6 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const
   // Pass 1: a lower bound of eq. 4 per copy.
   const std::vector<double> bound = lower_bounds(f1, f2);
 
-  // Copies by their bound; those that cannot beat the best found so far are skipped.
-  std::vector<int> by_bound;
-  for (std::size_t i = 0; i < copies_.size(); ++i) {
-    if (std::isfinite(bound[i])) by_bound.push_back(static_cast<int>(i));
-  }
-  if (by_bound.empty()) return std::nullopt;
-  std::stable_sort(by_bound.begin(), by_bound.end(),
-                   [&](int a, int b) { return bound[a] < bound[b]; });
-
   // The patch's spectra, once per DFT size.
   std::map<SizeKey, std::pair<cv::Mat, cv::Mat>> patch_spec;
   auto spectra_for = [&](const Copy& c) -> const std::pair<cv::Mat, cv::Mat>& {
@@ -325,54 +326,35 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const
   // at 0.5 px/mm: 7x7 px direct ~150 us per copy, DFT ~190 us.
   const bool direct = pw * ph <= kDirectMaxArea;
 
-  // Pass 2: eq. 4 in batches of copies, best bound first; SSD = window^2 - 2 corr + patch^2.
-  std::vector<Match> found(copies_.size());
-  double best_cost = std::numeric_limits<double>::infinity();
-  const int batch = std::max(2, 2 * cv::getNumThreads());
-  for (std::size_t start = 0; start < by_bound.size(); start += batch) {
-    if (bound[by_bound[start]] >= best_cost) break;
-    const std::size_t end = std::min(by_bound.size(), start + batch);
-    std::vector<const std::pair<cv::Mat, cv::Mat>*> spec(end - start);
-    if (!direct) {
-      for (std::size_t j = start; j < end; ++j) spec[j - start] = &spectra_for(*copies_[by_bound[j]]);
+  // Pass 2: eq. 4, best bound first; SSD = window^2 - 2 corr + patch^2.
+  std::vector<const std::pair<cv::Mat, cv::Mat>*> spec;
+  auto prepare = [&](const std::vector<int>& order, std::size_t start, std::size_t end) {
+    spec.assign(end - start, nullptr);
+    if (direct) return;
+    for (std::size_t j = start; j < end; ++j) spec[j - start] = &spectra_for(*copies_[order[j]]);
+  };
+  return search(bound, prepare, [&](int i, std::size_t rank_in_batch) {
+    // Per-thread buffers: no allocation per patch.
+    thread_local cv::Mat prod, prod2, corr, score;
+    Copy& c = *copies_[i];
+    const cv::Mat& valid = c.valid[key];
+    if (direct) {
+      cv::filter2D(c.f1, corr, CV_32F, f1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+      cv::filter2D(c.f2, prod, CV_32F, f2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
+      corr += prod;
+    } else {
+      const auto& [s1, s2] = *spec[rank_in_batch];
+      cv::mulSpectrums(c.spec1, s1, prod, 0, true);
+      cv::mulSpectrums(c.spec2, s2, prod2, 0, true);
+      prod += prod2;
+      cv::dft(prod, corr, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE, valid.rows);
     }
-    cv::parallel_for_(cv::Range(static_cast<int>(start), static_cast<int>(end)),
-                      [&](const cv::Range& r) {
-      // Per-thread buffers: no allocation per patch.
-      thread_local cv::Mat prod, prod2, corr, score;
-      for (int j = r.start; j < r.end; ++j) {
-        const int i = by_bound[j];
-        Copy& c = *copies_[i];
-        if (bound[i] >= best_cost) continue;
-        const cv::Mat& valid = c.valid[key];
-        if (direct) {
-          cv::filter2D(c.f1, corr, CV_32F, f1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-          cv::filter2D(c.f2, prod, CV_32F, f2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
-          corr += prod;
-        } else {
-          const auto& [s1, s2] = *spec[j - start];
-          cv::mulSpectrums(c.spec1, s1, prod, 0, true);
-          cv::mulSpectrums(c.spec2, s2, prod2, 0, true);
-          prod += prod2;
-          cv::dft(prod, corr, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE, valid.rows);
-        }
-        cv::scaleAdd(corr(cv::Rect(0, 0, valid.cols, valid.rows)), -2.0, c.window_sq[key], score);
-        double lo = 0;
-        cv::Point at;
-        cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
-        found[i] = Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
-      }
-    });
-    for (std::size_t j = start; j < end; ++j) {
-      const Match& m = found[by_bound[j]];
-      if (m.copy >= 0) best_cost = std::min(best_cost, m.cost);
-    }
-  }
-  std::optional<Match> best;
-  for (const Match& m : found) {
-    if (m.copy >= 0 && (!best || m.cost < best->cost)) best = m;
-  }
-  return best;
+    cv::scaleAdd(corr(cv::Rect(0, 0, valid.cols, valid.rows)), -2.0, c.window_sq[key], score);
+    double lo = 0;
+    cv::Point at;
+    cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
+    return Match{i, c.sheet, c.angle_deg, at, {pw, ph}, std::max(0.0, lo + tsq)};
+  });
 }
 
 cv::Matx23d WoodIndex::window_to_sheet(const Match& m) const {

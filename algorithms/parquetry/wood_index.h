@@ -24,6 +24,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -93,6 +94,13 @@ class WoodIndex {
   // Per copy: a lower bound of eq. 4 for patch (f1, f2) over its free windows (infinite
   // where none is free): (sum of differences)^2 / n per feature, from integral images.
   std::vector<double> lower_bounds(const cv::Mat& f1, const cv::Mat& f2);
+  // Scores copies best bound first, in parallel batches, skipping every copy whose bound
+  // cannot beat the best match so far; `prepare` (may be empty) runs before each batch with
+  // the order and the batch's range, `score(copy, rank in batch)` on worker threads.
+  std::optional<Match> search(
+      const std::vector<double>& bound,
+      const std::function<void(const std::vector<int>&, std::size_t, std::size_t)>& prepare,
+      const std::function<Match(int, std::size_t)>& score);
   std::optional<Match> best_masked(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask);
 
   double px_per_mm_;
