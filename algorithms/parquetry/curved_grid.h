@@ -29,7 +29,9 @@ GridLines regular_lines(int cols, int rows, double pitch);
 // vertical c + 1 to horizontal r + 1, back along horizontal r + 1, up vertical c. Each line
 // is fitted once as a G1 Catmull-Rom spline through its points with the crossings inserted
 // as knots, so two cells share the very same curve (reversed) and the cells tile the result
-// without gaps or overlaps. Straight lines stay straight. Throws std::invalid_argument when
+// without gaps or overlaps. Straight lines stay straight. A line point closer to a crossing
+// than a quarter of its other segment is dropped (a near-zero segment makes Catmull-Rom
+// loop), so the curve may pass up to that far from the dropped point. Throws std::invalid_argument when
 // the lines do not form a grid (wrong counts, a pair that does not cross).
 std::vector<Outline> cell_outlines(const GridLines& lines);
 
