@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
     req.params_source = "parameters";
     req.output_dir = output_dir;
     req.limits = limits;
-    for (const auto& w : with) req.together.push_back({w.at(0), w.at(1), ""});
+    for (const auto& w : with) req.together.push_back({w.at(0), w.at(1)});
     req.progress = [&progress](double f) { progress(f); };
     atelier::ConvertResult result = atelier::convert(req);
     copy_input(in, output_dir, result.outputs);

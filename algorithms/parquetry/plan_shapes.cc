@@ -186,10 +186,12 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat&
     for (int r = 0; r < shapes.rows; ++r) {
       for (int c = 0; c < shapes.cols; ++c) {
         if (!problem_of(outlines[r * shapes.cols + c], p.px_per_mm, p)) continue;
-        const int y0 = std::max(0, r * shapes.patch - shapes.half);
-        const int y1 = std::min(H, (r + 1) * shapes.patch + shapes.half);
-        const int x0 = std::max(0, c * shapes.patch - shapes.half);
-        const int x1 = std::min(W, (c + 1) * shapes.patch + shapes.half);
+        // One row / column beyond the overlaps: seam_lines keeps a cut straight there too
+        // (where the crossing cut may bend).
+        const int y0 = std::max(0, r * shapes.patch - shapes.half - 1);
+        const int y1 = std::min(H, (r + 1) * shapes.patch + shapes.half + 1);
+        const int x0 = std::max(0, c * shapes.patch - shapes.half - 1);
+        const int x1 = std::min(W, (c + 1) * shapes.patch + shapes.half + 1);
         for (int i : {c, c + 1}) {
           if (i == 0 || i == shapes.cols) continue;
           for (int y = y0; y < y1; ++y) changed |= std::exchange(seams.vertical[i][y], i * shapes.patch) != i * shapes.patch;

@@ -18,17 +18,26 @@ constexpr double kPixelMargin = 0.7072;
 
 cv::Size sheet_size_px(const Sheet& sheet, double px_per_mm) {
   const double scale = px_per_mm * 25.4 / sheet.dpi;
-  return {std::max(1, static_cast<int>(std::lround(sheet.image.cols * scale))),
-          std::max(1, static_cast<int>(std::lround(sheet.image.rows * scale)))};
+  // A hair under the exact product, so a whole number of pixels is not lost to rounding.
+  return {std::max(1, static_cast<int>(std::floor(sheet.image.cols * scale + 1e-9))),
+          std::max(1, static_cast<int>(std::floor(sheet.image.rows * scale + 1e-9)))};
+}
+
+cv::Mat resample_sheet(const cv::Mat& image, const Sheet& sheet, double px_per_mm) {
+  const double scale = px_per_mm * 25.4 / sheet.dpi;
+  const cv::Size size = sheet_size_px(sheet, px_per_mm);
+  // With no destination size, cv::resize uses the factors as given (the size only rounds);
+  // with one it would stretch the scan to fit it. The rounded size is at least `size`; the
+  // part beyond it (under a pixel, partly off the sheet) is cut off.
+  cv::Mat out;
+  cv::resize(image, out, cv::Size(), scale, scale, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  return out(cv::Rect(cv::Point(0, 0), size)).clone();
 }
 
 cv::Mat usable_mask(const Sheet& sheet, double px_per_mm) {
   const cv::Size size = sheet_size_px(sheet, px_per_mm);
   if (sheet.usable.empty()) return cv::Mat(size, CV_8UC1, cv::Scalar(255));
-  cv::Mat usable;
-  cv::resize(sheet.usable, usable, size, 0, 0,
-             size.area() < sheet.usable.size().area() ? cv::INTER_AREA : cv::INTER_LINEAR);
-  return usable > 250;
+  return resample_sheet(sheet.usable, sheet, px_per_mm) > 250;
 }
 
 cv::Mat used_mask(const Sheet& sheet, const std::vector<UsedPiece>& used, double px_per_mm,

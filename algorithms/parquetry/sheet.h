@@ -34,8 +34,13 @@ struct Stock {
   std::map<std::string, std::vector<UsedPiece>> used;
 };
 
-// Size of a sheet's masks at `px_per_mm` (the scan resampled from dpi / 25.4 px per mm).
+// Size of a sheet's masks at `px_per_mm`: the scan resampled from dpi / 25.4 px per mm at
+// exactly that scale, whole pixels only (floor), so pixel x spans [x, x + 1) / px_per_mm mm.
 cv::Size sheet_size_px(const Sheet& sheet, double px_per_mm);
+
+// `image` (the scan or its mask, the scan's size) resampled at exactly px_per_mm and cropped
+// to sheet_size_px: INTER_AREA when shrinking, INTER_LINEAR when growing.
+cv::Mat resample_sheet(const cv::Mat& image, const Sheet& sheet, double px_per_mm);
 
 // Used-wood mask of one sheet: CV_8UC1 of sheet_size_px(sheet, px_per_mm), 255 on every
 // pixel that a used piece, grown by kerf_mm, touches (conservative: a free pixel is free).

@@ -25,14 +25,6 @@ cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
   return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
 }
 
-cv::Mat resized(const cv::Mat& src, cv::Size size) {
-  if (src.size() == size) return src;
-  cv::Mat out;
-  const bool shrink = size.area() < src.size().area();
-  cv::resize(src, out, size, 0, 0, shrink ? cv::INTER_AREA : cv::INTER_LINEAR);
-  return out;
-}
-
 // Sums over every w x h window of the image whose integral is `I`, as CV_32F.
 cv::Mat window_sums(const cv::Mat& I, int w, int h, int nx, int ny) {
   cv::Mat sums = I(cv::Rect(w, h, nx, ny)) - I(cv::Rect(w, 0, nx, ny)) -
@@ -72,7 +64,7 @@ WoodIndex::WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, doubl
   for (std::size_t s = 0; s < sheets.size(); ++s) {
     const Sheet& sheet = sheets[s];
     const cv::Size size = sheet_size_px(sheet, px_per_mm);
-    const cv::Mat bgr = resized(sheet.image, size);
+    const cv::Mat bgr = resample_sheet(sheet.image, sheet, px_per_mm);
     const cv::Mat usable = usable_mask(sheet, px_per_mm);
     cv::Mat used = cv::Mat::zeros(size, CV_8UC1);
     if (auto it = stock.used.find(sheet.id); it != stock.used.end()) {

@@ -46,7 +46,7 @@ struct Match {
 
 class WoodIndex {
  public:
-  // `sheets` and `stock` validated by the caller; stock.px_per_mm == px_per_mm or 0.
+  // `sheets` validated by the caller; used wood is the stock's pieces grown by kerf_mm.
   WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, double px_per_mm,
             int rotations, double w_intens, double w_edge, double kerf_mm);
   ~WoodIndex();

@@ -34,10 +34,9 @@ void validate_kind_params(const std::string& kind, const toml::table& params,
 
 // Another target converted together with the primary one (parquetry only, paper 4.2: the
 // targets' patches share one priority queue on the same wood). Outputs go to output_dir;
-// `job` labels its pieces in the stock ("" = output_dir's name).
+// Its pieces are labelled in the stock with output_dir's name (the job id in the daemon).
 struct ExtraTarget {
   std::filesystem::path input, output_dir;
-  std::string job;
 };
 
 struct ConvertRequest {

@@ -344,11 +344,14 @@ ConvertResult convert_parquetry(const ConvertRequest& req) {
   const Layers layers = laser_layers(p.laser, p.plan.kerf_mm, source);
   report_progress(req, 0.0);
 
-  std::vector<Target> targets{{req.input, req.output_dir, p.job, {}}};
-  for (const auto& extra : req.together) targets.push_back({extra.input, extra.output_dir, extra.job, {}});
+  // Stock labels are the output folders' names: the job ids in the daemon, never a user's
+  // parameter (a chosen label could name another job's pieces).
+  std::vector<Target> targets{{req.input, req.output_dir, folder_name(req.output_dir), {}}};
+  for (const auto& extra : req.together) {
+    targets.push_back({extra.input, extra.output_dir, folder_name(extra.output_dir), {}});
+  }
   std::set<std::string> folders, labels;
   for (Target& t : targets) {
-    if (t.job.empty()) t.job = folder_name(t.output_dir);
     if (!folders.insert(fs::absolute(t.output_dir).lexically_normal().string()).second) {
       throw ConvertError(t.output_dir.string() + ": two targets write to the same output folder");
     }
@@ -357,21 +360,18 @@ ConvertResult convert_parquetry(const ConvertRequest& req) {
     }
     t.image = to_8bit(load_image(t.input, req.limits));
   }
-  const std::vector<parquetry::Sheet> sheets = load_sheets(wood, req.limits);
-  report_progress(req, 0.1);
-
-  // Held until the new pieces are recorded: no other conversion plans this wood meanwhile.
+  // Held until the new pieces are recorded: no other conversion plans this wood meanwhile,
+  // and the scans are read under it (a sheet removed or replaced meanwhile is not planned).
+  // A job converted again (retry, crash recovery) plans on new wood: its earlier pieces stay
+  // taken, since they may have been cut already (`atelierctl wood reset --job` frees them).
   std::optional<StockLock> lock;
   parquetry::Stock stock;
   if (p.stock_dir) {
     lock.emplace(*p.stock_dir);
     stock = load_stock(*p.stock_dir);
-    // A job converted again (after a crash, or a rerun into the same folder) replaces the
-    // pieces its earlier run took instead of taking more wood.
-    for (auto& [sheet, pieces] : stock.used) {
-      std::erase_if(pieces, [&](const parquetry::UsedPiece& u) { return labels.count(u.job) > 0; });
-    }
   }
+  const std::vector<parquetry::Sheet> sheets = load_sheets(wood, req.limits);
+  report_progress(req, 0.1);
 
   std::vector<cv::Mat> images;
   for (const Target& t : targets) images.push_back(t.image);

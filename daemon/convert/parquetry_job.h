@@ -4,8 +4,9 @@
 // Parameters: see parquetry_params.h. With `stock` set, the whole conversion holds the
 // StockLock of that folder (stock_store.h): load the stock, plan on the wood still free,
 // write every output, and only then record the new pieces (so a failed conversion uses no
-// wood, and two conversions never plan the same wood). Pieces already in the stock under
-// this job's label (a rerun of the same job) are replaced, not added to. request.together adds more targets
+// wood, and two conversions never plan the same wood). The stock label of a target is its
+// output folder's name (the job id in the daemon). A job converted again takes new wood and
+// its earlier pieces stay taken: they may have been cut. request.together adds more targets
 // planned in the same priority queue (paper 4.2), each with its own outputs and stock label.
 //
 // Writes into each target's output folder, each file atomically (output_files.h):

@@ -76,8 +76,6 @@ ParquetryParams read_parquetry_params(const toml::table& table, const std::strin
     if (dir.empty()) r.fail("stock", "expected a folder for stock.json, not an empty string");
     p.stock_dir = resolve(dir, *table.get("stock"));
   }
-  p.job = r.get_string("job", "");
-  if (r.has("job") && p.job.empty()) r.fail("job", "expected a non-empty label");
   if (const toml::table* laser = r.get_table("laser")) {
     p.laser = read_laser_params(*laser, source);
   } else {

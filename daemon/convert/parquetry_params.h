@@ -14,7 +14,6 @@
 //   overlap = 0.3 [0, 0.5]   kerf_mm = 0.2 [0, 2]   min_feature_mm = 2 [0, 50]
 //   seed = 0 [0, 2^63)       px_per_mm = 0.5 (0, 20]
 //   stock           folder of stock.json (string); absent = plan on all wood, persist nothing
-//   job             label of this job's pieces in the stock (default: the output folder's name)
 //   laser           the [laser] table (laser_params.h), injected by the daemon as for `cut`
 //
 // Thread-safe (no shared state).
@@ -39,7 +38,6 @@ struct ParquetryParams {
   std::optional<std::vector<SheetEntry>> wood_list;
   double dpi = 300;
   std::optional<std::filesystem::path> stock_dir;
-  std::string job;  // "" = the output folder's name
   LaserParams laser;
 };
 

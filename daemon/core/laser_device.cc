@@ -71,13 +71,14 @@ void LaserDevice::resume(int64_t job_id, int from_row) {
                              "` (without --from-row) releases a feed hold, `atelierctl retry " +
                              std::to_string(job_id) + "` runs an interrupted job again from the start");
   std::lock_guard lock(mu_);
-  if (current_ == job_id && controls_ && paused_ && !controls_->hold.load()) {
+  if (current_ != job_id || !controls_ || (!paused_ && !controls_->hold.load()))
+    throw std::runtime_error(job_tag(job_id) + " is neither held nor paused on " + config_.name);
+  // Both at once (a hold during a sheet swap): the session ends the program pause too, so
+  // the next sheet's M0 is seen and reported afresh.
+  if (paused_) {
     controls_->release_pause.store(true);
     paused_ = false;
-    return;
   }
-  if (current_ != job_id || !controls_ || !controls_->hold.load())
-    throw std::runtime_error(job_tag(job_id) + " is neither held nor paused on " + config_.name);
   controls_->hold.store(false);
 }
 

@@ -130,12 +130,12 @@ std::string id_list(const std::vector<Job>& jobs) {
 std::vector<Job> Scheduler::take_batch_partners(const Job& first,
                                                 const std::shared_ptr<std::atomic<bool>>& flag) {
   std::vector<Job> partners;
-  if (first.kind != "parquetry") return partners;
+  if (first.kind != "parquetry" || alone_.erase(first.id)) return partners;
   const std::string overrides = own_overrides(first);
   for (auto it = queue_.begin(); it != queue_.end() && partners.size() + 1 < kMaxBatch;) {
     auto job = *it == first.id ? std::nullopt : jobs_.store().get(*it);
     if (job && job->state == JobState::queued && job->kind == first.kind && !running_.count(job->id) &&
-        own_overrides(*job) == overrides) {
+        !alone_.count(job->id) && own_overrides(*job) == overrides) {
       running_[job->id] = flag;
       partners.push_back(*job);
       it = queue_.erase(it);
@@ -248,15 +248,40 @@ void Scheduler::convert_one(int64_t id) {
       }
       if (!again.empty()) {
         {
+          // Released here, with the insert, not later by Release: a worker popping one of
+          // them meanwhile would find it still running and drop it.
           std::lock_guard lock(mu_);
+          for (int64_t a : again) {
+            running_.erase(a);
+            cancel_requested_.erase(a);
+          }
           queue_.insert(queue_.begin(), again.begin(), again.end());
         }
-        cv_.notify_one();
+        cv_.notify_all();
       }
       break;
     }
     case ConversionOutcome::Status::timed_out:
     case ConversionOutcome::Status::failed:
+      if (batch.size() > 1) {
+        // Which input failed is not known: every job is converted again on its own, so only
+        // the bad one fails.
+        {
+          std::lock_guard lock(mu_);
+          for (const Job& j : batch) {
+            jobs_.requeue(j.id, "the conversion it shared failed (" + outcome.message +
+                                    "); converting it alone");
+            running_.erase(j.id);
+            cancel_requested_.erase(j.id);
+            alone_.insert(j.id);
+          }
+          std::vector<int64_t> ids;
+          for (const Job& j : batch) ids.push_back(j.id);
+          queue_.insert(queue_.begin(), ids.begin(), ids.end());
+        }
+        cv_.notify_all();
+        break;
+      }
       for (const Job& j : batch) {
         log::warning("job " + std::to_string(j.id) + ": failed: " + outcome.message);
         jobs_.fail(j.id, outcome.message);

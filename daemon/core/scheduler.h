@@ -75,6 +75,7 @@ class Scheduler {
   std::deque<int64_t> queue_;
   std::map<int64_t, std::shared_ptr<std::atomic<bool>>> running_;  // job -> cancel flag (shared by a batch)
   std::set<int64_t> cancel_requested_;  // running jobs the user canceled (not the rest of their batch)
+  std::set<int64_t> alone_;  // queued jobs of a failed batch: converted alone, so one bad input fails only its job
   bool stopping_ = false;
   std::vector<std::thread> threads_;
 };

@@ -290,13 +290,14 @@ TEST_F(ParquetryJobTest, SecondJobOnTheSameStockUsesOtherWood) {
   EXPECT_EQ(per_job["first"], static_cast<int>(a["pieces"].size()));
   EXPECT_EQ(per_job["second"], static_cast<int>(b["pieces"].size()));
 
-  // Converting "first" again replaces its pieces in the stock rather than taking more wood.
+  // Converting "first" again (a retry) takes new wood and keeps its earlier pieces taken:
+  // they may have been cut already.
   run(small_job(stock), "first");
   per_job.clear();
   const json again = read_json(dir_ / "stock" / "stock.json");
   for (const auto& [sheet, pieces] : again["sheets"].items())
     for (const auto& p : pieces) ++per_job[p["job"].get<std::string>()];
-  EXPECT_EQ(per_job["first"], static_cast<int>(a["pieces"].size()));
+  EXPECT_EQ(per_job["first"], 2 * static_cast<int>(a["pieces"].size()));
   EXPECT_EQ(per_job["second"], static_cast<int>(b["pieces"].size()));
 }
 
@@ -331,6 +332,9 @@ TEST_F(ParquetryJobTest, BadParametersNameTheKey) {
               testing::AllOf(HasSubstr("job.toml:6"), HasSubstr("key 'grid'"), HasSubstr("hex")));
   EXPECT_THAT(param_error(small_job("adaptive_levels = 9\n")), HasSubstr("key 'adaptive_levels'"));
   EXPECT_THAT(param_error(small_job("[laser]\nspeed = 3\n")), HasSubstr("laser.speed"));
+  // The stock label is the job's own id, never a parameter: one naming another job's pieces
+  // could otherwise touch that job's wood.
+  EXPECT_THAT(param_error(small_job("job = \"7\"\n")), HasSubstr("unknown key 'job'"));
   // Checked per layer, as the daemon checks a sidecar: no `wood` is fine there.
   toml::table sidecar = toml::parse("patch_mm = 10\norder = \"center\"\n");
   EXPECT_NO_THROW(validate_kind_params("parquetry", sidecar, "x.png.toml"));
@@ -351,7 +355,7 @@ TEST_F(ParquetryJobTest, RelativeWoodFolderIsRelativeToItsFile) {
 
 TEST_F(ParquetryJobTest, TargetsConvertedTogetherShareNoWood) {
   ConvertRequest req = request(small_job(), kData / "fruits.jpg", "a");
-  req.together.push_back({kData / "HappyFish.jpg", dir_ / "b", ""});
+  req.together.push_back({kData / "HappyFish.jpg", dir_ / "b"});
   convert(req);
   const json a = read_json(dir_ / "a" / "plan.json"), b = read_json(dir_ / "b" / "plan.json");
   EXPECT_TRUE(fs::exists(dir_ / "b" / "cuts.gcode"));
@@ -372,7 +376,7 @@ TEST_F(ParquetryJobTest, TargetsConvertedTogetherShareNoWood) {
   cut.kind = "cut";
   cut.input = kData / "svg" / "box-test.svg";
   cut.output_dir = dir_ / "c";
-  cut.together.push_back({kData / "fruits.jpg", dir_ / "d", ""});
+  cut.together.push_back({kData / "fruits.jpg", dir_ / "d"});
   EXPECT_THROW(convert(cut), ConvertError);
 }
 

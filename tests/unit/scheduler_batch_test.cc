@@ -4,6 +4,8 @@
 // job ends canceled and the others are converted again; a stopped batch is re-queued whole.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <condition_variable>
 #include <fstream>
 #include <mutex>
@@ -33,7 +35,9 @@ class FakeRunner : public ConversionRunner {
     while (!released_ && !cancel.load()) cv_.wait_for(lock, std::chrono::milliseconds(10));
     --running_;
     if (cancel.load() && !released_) return {ConversionOutcome::Status::canceled, "canceled"};
-    if (fail_) return {ConversionOutcome::Status::failed, "wood.png: out of wood: needs 900 mm^2"};
+    bool bad = fail_ || bad_dirs_.count(task.output_dir);
+    for (const auto& [input, output] : task.together) bad = bad || bad_dirs_.count(output);
+    if (bad) return {ConversionOutcome::Status::failed, "wood.png: out of wood: needs 900 mm^2"};
     for (const auto& [input, output] : task.together) std::ofstream(output / "plan.json") << "{}";
     std::ofstream(task.output_dir / "plan.json") << "{}";
     return {ConversionOutcome::Status::ok, ""};
@@ -47,6 +51,11 @@ class FakeRunner : public ConversionRunner {
     released_ = true;
     fail_ = fail;
   }
+  // Any conversion that includes the job writing to `dir` fails (a bad input in a batch).
+  void fail_output(const std::filesystem::path& dir) {
+    std::lock_guard lock(mu_);
+    bad_dirs_.insert(dir);
+  }
   std::vector<ConversionTask> tasks() {
     std::lock_guard lock(mu_);
     return tasks_;
@@ -58,6 +67,7 @@ class FakeRunner : public ConversionRunner {
   std::vector<ConversionTask> tasks_;
   int running_ = 0;
   bool released_ = false, fail_ = false;
+  std::set<std::filesystem::path> bad_dirs_;
 };
 
 struct Rig {
@@ -129,18 +139,24 @@ TEST(SchedulerBatch, QueuedParquetryJobsArePlannedInOneConversion) {
   rig.scheduler.stop();
 }
 
-TEST(SchedulerBatch, AFailedBatchFailsEveryJobWithTheSameReason) {
+TEST(SchedulerBatch, AFailedBatchConvertsEachJobAloneSoOnlyTheBadOneFails) {
   Rig rig;
   const int64_t a = rig.drop("parquetry", "a.jpg");
   const int64_t b = rig.drop("parquetry", "b.jpg");
+  rig.runner.fail_output(rig.layout.work(a));
   rig.scheduler.start(1);
-  ASSERT_TRUE(rig.runner.wait_tasks(1));
-  rig.runner.release(true);
-  for (int64_t id : {a, b}) {
-    ASSERT_TRUE(rig.wait_state(id, JobState::failed)) << id;
-    EXPECT_EQ(rig.store.get(id)->reason, "wood.png: out of wood: needs 900 mm^2");
-    EXPECT_TRUE(fs::exists(rig.layout.failed(id) / (id == a ? "a.jpg" : "b.jpg")));
-  }
+  rig.runner.release();
+  ASSERT_TRUE(rig.wait_state(a, JobState::failed));
+  EXPECT_EQ(rig.store.get(a)->reason, "wood.png: out of wood: needs 900 mm^2");
+  EXPECT_TRUE(fs::exists(rig.layout.failed(a) / "a.jpg"));
+  ASSERT_TRUE(rig.wait_state(b, JobState::ready)) << rig.store.get(b)->reason;
+  const auto tasks = rig.runner.tasks();
+  ASSERT_EQ(tasks.size(), 3u);  // together, then each alone
+  EXPECT_EQ(tasks[0].together.size(), 1u);
+  EXPECT_EQ(tasks[1].job_id, a);
+  EXPECT_TRUE(tasks[1].together.empty());
+  EXPECT_EQ(tasks[2].job_id, b);
+  EXPECT_TRUE(tasks[2].together.empty());
   rig.scheduler.stop();
 }
 
