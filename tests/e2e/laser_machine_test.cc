@@ -10,8 +10,8 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
-#include "daemon/convert/svg_paths.h"
 #include "drivers/serial_transport.h"
+#include "tests/e2e/burn_compare.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
@@ -105,26 +105,9 @@ bool burned(const json& s) { return s["power"].get<double>() > 0; }
 // The drawing's strokes as the render draws them: machine X = x, Y = 400 - y (front-left
 // origin), pixel (X * ppm, (400 - Y) * ppm), i.e. the SVG's own coordinates scaled.
 cv::Mat intended_mask(const fs::path& file) {
-  const auto drawing = atelier::read_svg(file, 0.05);
   cv::Mat mask(static_cast<int>(kWorkMm * kPxPerMm), static_cast<int>(kWorkMm * kPxPerMm), CV_8U, cv::Scalar(0));
-  for (const auto& shape : drawing.shapes) {
-    if (shape.stroke.empty()) continue;
-    for (const auto& path : shape.paths) {
-      std::vector<cv::Point> pts;
-      for (const auto& p : path.points)
-        pts.emplace_back(cvRound(p.x * kPxPerMm), cvRound(p.y * kPxPerMm));
-      cv::polylines(mask, pts, path.closed, cv::Scalar(255), 1);
-    }
-  }
+  atelier::test::draw_strokes(file, kPxPerMm, mask);
   return mask;
-}
-
-// Share of the set pixels of `a` that lie within `tolerance_px` of a set pixel of `b`.
-double covered(const cv::Mat& a, const cv::Mat& b, int tolerance_px) {
-  cv::Mat near;
-  cv::dilate(b, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * tolerance_px + 1, 2 * tolerance_px + 1}));
-  const double total = cv::countNonZero(a);
-  return total == 0 ? 0 : cv::countNonZero(a & near) / total;
 }
 
 }  // namespace
@@ -173,8 +156,8 @@ TEST(E2ELaser, ACutJobWaitsForTheOperatorFramesThenBurnsWhatTheSvgShows) {
   cv::Mat burnt = render < 200;
   cv::Mat intended = intended_mask(svg("sample-box.svg"));
   ASSERT_GT(cv::countNonZero(intended), 500);
-  EXPECT_GT(covered(burnt, intended, 2), 0.95) << "burned where the drawing has no stroke";
-  EXPECT_GT(covered(intended, burnt, 2), 0.95) << "a stroke of the drawing was not burned";
+  EXPECT_GT(atelier::test::covered(burnt, intended, 2), 0.95) << "burned where the drawing has no stroke";
+  EXPECT_GT(atelier::test::covered(intended, burnt, 2), 0.95) << "a stroke of the drawing was not burned";
 }
 
 // Cancels the job `name` once `min_done` lines are acknowledged and it has burned a little

@@ -13,7 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
-#include "daemon/convert/svg_paths.h"
+#include "tests/e2e/burn_compare.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
@@ -88,24 +88,9 @@ cv::Mat intended_burn(const fs::path& done) {
   for (const auto& e : fs::directory_iterator(done)) {
     const std::string name = e.path().filename().string();
     if (name.rfind("cuts-", 0) != 0 || e.path().extension() != ".svg") continue;
-    const auto drawing = atelier::read_svg(e.path(), 0.05);
-    for (const auto& shape : drawing.shapes) {
-      if (shape.stroke.empty()) continue;
-      for (const auto& path : shape.paths) {
-        std::vector<cv::Point> pts;
-        for (const auto& p : path.points) pts.emplace_back(cvRound(p.x * kPxPerMm), cvRound(p.y * kPxPerMm));
-        cv::polylines(mask, pts, path.closed, cv::Scalar(255), 1);
-      }
-    }
+    atelier::test::draw_strokes(e.path(), kPxPerMm, mask);
   }
   return mask;
-}
-
-double covered(const cv::Mat& a, const cv::Mat& b, int tolerance_px) {
-  cv::Mat near;
-  cv::dilate(b, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * tolerance_px + 1, 2 * tolerance_px + 1}));
-  const double total = cv::countNonZero(a);
-  return total == 0 ? 0 : cv::countNonZero(a & near) / total;
 }
 
 // The stock's pieces of one job on one sheet, rasterised at 4 px/mm.
@@ -189,8 +174,8 @@ TEST(E2EParquetry, APhotoIsCutSheetBySheetWithPausesAndASecondPlansOnFreeWood) {
   cv::Mat burnt = render < 200;
   cv::Mat intended = intended_burn(done);
   ASSERT_GT(cv::countNonZero(intended), 500);
-  EXPECT_GT(covered(burnt, intended, 2), 0.95) << "burned where no cut file has a stroke";
-  EXPECT_GT(covered(intended, burnt, 2), 0.95) << "a stroke of the cut files was not burned";
+  EXPECT_GT(atelier::test::covered(burnt, intended, 2), 0.95) << "burned where no cut file has a stroke";
+  EXPECT_GT(atelier::test::covered(intended, burnt, 2), 0.95) << "a stroke of the cut files was not burned";
 
   // A second photo plans on the wood the first left free.
   atelier::test::drop_file(atelier::test::test_image("LinuxLogo.jpg"), rig.daemon->incoming("parquetry") / "logo.jpg");
