@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "drivers/embroidery/stitch_plan.h"
+#include "algorithms/embroidery/stitch_plan.h"
 
 namespace atelier::embroidery {
 

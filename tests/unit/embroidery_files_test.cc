@@ -14,7 +14,7 @@
 
 #include "drivers/embroidery/dst_writer.h"
 #include "drivers/embroidery/exp_writer.h"
-#include "drivers/embroidery/stitch_plan.h"
+#include "algorithms/embroidery/stitch_plan.h"
 
 namespace atelier::embroidery {
 namespace {
