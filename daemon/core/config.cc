@@ -12,9 +12,8 @@
 namespace atelier {
 namespace {
 
-// Drivers this build can run. The file-drop driver arrives with its issue; until then a
-// [[device]] naming it is refused rather than silently ignored.
-const std::vector<std::string> kAvailableDrivers = {"ayab", "grbl"};
+// Stitch-file formats a file-drop device can deliver (the embroidery conversion's design.*).
+const std::vector<std::string> kDropFormats = {"dst", "exp"};
 
 // The kinds whose conversions make laser G-code (and read the [laser] table), as far as this
 // build converts them.
@@ -35,14 +34,16 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   d.usb = r.get_string("usb", "");
   const bool knitter = d.driver == "ayab";
   const bool laser = d.driver == "grbl";
+  const bool drop = d.driver == "file-drop";
   d.machine = knitter ? r.get_choice("machine", "kh930", {"kh910", "kh930", "kh270"})
                       : r.get_string("machine", "");
   d.kinds = r.get_string_list("kinds", knitter ? std::vector<std::string>{"knit"}
                                        : laser ? laser_kinds()
-                                               : std::vector<std::string>{});
-  d.autostart = r.get_bool("autostart", knitter);
+                                               : std::vector<std::string>{"embroidery"});
+  // Writing a file is safe and quick: a file-drop device delivers without `atelierctl start`.
+  d.autostart = r.get_bool("autostart", knitter || drop);
   d.dir = r.get_string("dir", "");
-  d.formats = r.get_string_list("formats", {});
+  d.formats = r.get_string_list("formats", drop ? kDropFormats : std::vector<std::string>{});
   if (knitter) {
     d.mode = r.get_choice("mode", "single-bed", {"single-bed", "classic-ribber", "circular"});
     d.start_needle = static_cast<int>(r.get_int("start_needle", -1, -1, 200));
@@ -61,14 +62,19 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   }
   if ((knitter || laser) && d.port.empty() && d.usb.empty())
     r.fail("name", "device '" + d.name + "' needs port = \"/dev/ttyACM0\" or usb = \"2341:0043\"");
+  if (drop) {
+    if (d.dir.empty())
+      r.fail("dir", "file-drop device '" + d.name + "' needs dir = \"/media/EMB\" (the machine's folder)");
+    if (d.formats.empty()) r.fail("formats", "give at least one of \"dst\", \"exp\"");
+    for (const auto& f : d.formats)
+      if (std::find(kDropFormats.begin(), kDropFormats.end(), f) == kDropFormats.end())
+        r.fail("formats", "unknown format '" + f + "' (known: \"dst\", \"exp\")");
+    for (const auto& k : d.kinds)
+      if (k != "embroidery")
+        r.fail("kinds", "a file-drop device takes embroidery jobs only, not '" + k + "'");
+  }
   for (const auto& k : d.kinds)
     if (!is_known_kind(k)) r.fail("kinds", "unknown kind '" + k + "'");
-  bool available = false;
-  for (const auto& a : kAvailableDrivers) available = available || a == d.driver;
-  if (!available) {
-    r.fail("driver", "driver '" + d.driver + "' of device '" + d.name +
-                         "' is not available in this build of atelierd");
-  }
   return d;
 }
 

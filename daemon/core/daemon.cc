@@ -16,6 +16,7 @@
 #include "daemon/convert/convert.h"
 #include "daemon/convert/param_table.h"
 #include "daemon/core/job_json.h"
+#include "daemon/core/file_drop_device.h"
 #include "daemon/core/knit_device.h"
 #include "daemon/core/laser_device.h"
 #include "daemon/core/wood_service.h"
@@ -93,7 +94,9 @@ Daemon::Daemon(fs::path config_file, Config initial)
       options.mode = d.streaming == "send-response" ? grbl::StreamMode::send_response
                                                     : grbl::StreamMode::character_counting;
       devices_.push_back(std::make_unique<LaserDevice>(d, *jobs_, opener, resolve, options));
-    } else {  // "ayab"; config.cc accepts no other driver in this build
+    } else if (d.driver == "file-drop") {
+      devices_.push_back(std::make_unique<FileDropDevice>(d, *jobs_));
+    } else {  // "ayab"; config.cc accepts no other driver
       devices_.push_back(std::make_unique<KnitDevice>(d, *jobs_, opener, resolve));
     }
   }

@@ -88,12 +88,27 @@ TEST(Config, SyntaxErrorNamesTheLine) {
   EXPECT_NE(e.find("atelierd.toml:3"), std::string::npos) << e;
 }
 
-TEST(Config, DevicesWithDriversNotInThisBuildAreRefusedNotIgnored) {
-  std::string e = error_of(
+TEST(Config, AFileDropDeviceDeliversEmbroideryInDstAndExpWithoutBeingStarted) {
+  const atelier::Config c = atelier::parse_config(
       "[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n"
-      "dir = \"/media/EMB\"\n");
+      "dir = \"/media/EMB\"\n", "atelierd.toml");
+  ASSERT_EQ(c.devices.size(), 1u);
+  EXPECT_EQ(c.devices[0].dir, "/media/EMB");
+  EXPECT_EQ(c.devices[0].formats, (std::vector<std::string>{"dst", "exp"}));
+  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"embroidery"}));
+  EXPECT_TRUE(c.devices[0].autostart);
+}
+
+TEST(Config, AFileDropDeviceWithoutAFolderOrWithAnUnknownFormatIsRefused) {
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n");
   EXPECT_NE(e.find("emb"), std::string::npos) << e;
-  EXPECT_NE(e.find("file-drop"), std::string::npos) << e;
+  EXPECT_NE(e.find("dir"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n"
+               "dir = \"/m\"\nformats = [\"dst\", \"pes\"]\n");
+  EXPECT_NE(e.find("'pes'"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n"
+               "dir = \"/m\"\nkinds = [\"knit\"]\n");
+  EXPECT_NE(e.find("embroidery jobs only"), std::string::npos) << e;
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"x\"\ndriver = \"ayab\"\nprot = \"/dev/x\"\n");
   EXPECT_NE(e.find("prot"), std::string::npos) << e;
 }

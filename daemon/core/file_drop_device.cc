@@ -1,0 +1,94 @@
+#include "daemon/core/file_drop_device.h"
+
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace atelier {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_whole(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.filename().string() + " cannot be read");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+}  // namespace
+
+FileDropDevice::FileDropDevice(DeviceConfig config, JobService& jobs, FolderOpener open)
+    : DeviceWorker(std::move(config), jobs, [this]() -> std::optional<std::string> {
+        return config_.dir;  // always reachable; a missing folder fails the job with its reason
+      }),
+      open_(open ? std::move(open) : [](const fs::path& dir) -> std::unique_ptr<DropFolder> {
+        return std::make_unique<PosixDropFolder>(dir);
+      }) {}
+
+FileDropDevice::~FileDropDevice() { stop(); }
+
+void FileDropDevice::resume(int64_t job_id, int) {
+  throw std::runtime_error(job_tag(job_id) + ": " + config_.name +
+                           " only writes files; there is nothing to resume (`atelierctl retry " +
+                           std::to_string(job_id) + "` delivers a failed job again)");
+}
+
+std::string FileDropDevice::file_name(int64_t id, const std::string& input_name,
+                                      const std::string& format) {
+  std::string stem;
+  for (char c : fs::path(input_name).stem().string()) {
+    if (stem.size() >= 24) break;
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '-' || c == '_';
+    stem += plain ? c : '_';
+  }
+  return std::to_string(id) + (stem.empty() ? "" : "-" + stem) + "." + format;
+}
+
+bool FileDropDevice::run_next() {
+  auto id = claim_ready("writing to " + config_.dir);
+  if (!id) return false;
+  deliver(*id);
+  return true;
+}
+
+void FileDropDevice::deliver(int64_t id) {
+  auto job = jobs_.store().get(id);
+  if (!job) return;
+  const auto folder = open_(config_.dir);
+  std::vector<std::string> written;
+  try {
+    if (!folder->present())
+      throw DropError(config_.dir + " is missing (is the stick mounted?)", ENOENT);
+    for (const std::string& format : config_.formats) {
+      const fs::path source = fs::path(job->output_dir) / ("design." + format);
+      if (!fs::exists(source))
+        throw std::runtime_error("the conversion made no design." + format + " for " + config_.name);
+      const std::string name = file_name(id, job->name, format);
+      folder->write_atomically(name, read_whole(source));
+      written.push_back(name);
+    }
+  } catch (const std::exception& e) {
+    for (const std::string& name : written) folder->remove(name);
+    jobs_.transition(id, JobState::failed,
+                     config_.name + ": " + e.what() + "; nothing was left in the folder and the design "
+                     "stays in done/" + std::to_string(id) + " (`atelierctl retry " +
+                     std::to_string(id) + "` delivers it again)");
+    set_last("job " + std::to_string(id) + " failed: " + e.what());
+    return;
+  }
+  std::string list;
+  for (const std::string& name : written) list += (list.empty() ? "" : ", ") + name;
+  jobs_.transition(id, JobState::completed, "written to " + config_.dir + ": " + list);
+  set_last("job " + std::to_string(id) + " written: " + list);
+}
+
+void FileDropDevice::describe_more(nlohmann::json& out) const {
+  out["dir"] = config_.dir;
+  out["formats"] = config_.formats;
+  out["folder"] = open_(config_.dir)->present() ? "present" : "missing";
+}
+
+}  // namespace atelier

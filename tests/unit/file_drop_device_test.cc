@@ -1,0 +1,147 @@
+// The file-drop driver: a converted embroidery job's stitch files reach the machine's folder
+// whole, and a missing or full folder fails the job with its reason, loses nothing and leaves no
+// half job behind.
+#include <gtest/gtest.h>
+
+#include <cerrno>
+#include <chrono>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include "daemon/core/file_drop_device.h"
+#include "daemon/core/job_service.h"
+#include "tests/e2e/daemon_harness.h"
+
+namespace fs = std::filesystem;
+using atelier::DeviceConfig;
+using atelier::DropError;
+using atelier::DropFolder;
+using atelier::FileDropDevice;
+using atelier::JobService;
+using atelier::JobState;
+using atelier::SpoolLayout;
+using atelier::Store;
+
+namespace {
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A spool with one converted embroidery job, ready for the device.
+struct ReadyJob {
+  atelier::test::TempDir tmp;
+  SpoolLayout layout{tmp.path() / "spool"};
+  Store store{tmp.path() / "jobs.sqlite"};
+  JobService jobs{store, layout, nullptr};
+  int64_t id = 0;
+
+  ReadyJob() {
+    jobs.ensure_layout();
+    atelier::test::write_file(layout.incoming("embroidery") / "my cat.png", "png bytes");
+    id = *jobs.claim(layout.incoming("embroidery") / "my cat.png");
+    jobs.transition(id, JobState::converting, "converting");
+    atelier::test::write_file(layout.work(id) / "design.dst", std::string(515, 'D'));
+    atelier::test::write_file(layout.work(id) / "design.exp", std::string(40, 'E'));
+    jobs.finish_converted(id, JobState::ready, "converted; waiting for emb");
+  }
+
+  DeviceConfig device(const fs::path& dir) const {
+    DeviceConfig d;
+    d.name = "emb";
+    d.driver = "file-drop";
+    d.dir = dir.string();
+    d.kinds = {"embroidery"};
+    d.formats = {"dst", "exp"};
+    d.autostart = true;
+    return d;
+  }
+
+  // Runs the device until the job leaves ready/running (at most 10 s).
+  atelier::Job run(FileDropDevice& device) {
+    device.start_worker();
+    device.wake();
+    for (int i = 0; i < 1000; ++i) {
+      auto job = store.get(id);
+      if (job->state != JobState::ready && job->state != JobState::running) return *job;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return *store.get(id);
+  }
+};
+
+// A stick that fills up after `room` files.
+class FullStick : public DropFolder {
+ public:
+  explicit FullStick(int room, std::set<std::string>& files) : room_(room), files_(files) {}
+  bool present() const override { return true; }
+  void write_atomically(const std::string& name, std::string_view) override {
+    if (static_cast<int>(files_.size()) >= room_)
+      throw DropError("/media/EMB: No space left on device writing " + name, ENOSPC);
+    files_.insert(name);
+  }
+  void remove(const std::string& name) noexcept override { files_.erase(name); }
+
+ private:
+  int room_;
+  std::set<std::string>& files_;
+};
+
+}  // namespace
+
+TEST(FileDropDevice, WritesEveryFormatUnderTheJobsNameAndCompletesTheJob) {
+  ReadyJob r;
+  const fs::path stick = r.tmp.path() / "EMB";
+  fs::create_directories(stick);
+  FileDropDevice device(r.device(stick), r.jobs);
+  const atelier::Job job = r.run(device);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  const std::string dst = std::to_string(r.id) + "-my_cat.dst";
+  const std::string exp = std::to_string(r.id) + "-my_cat.exp";
+  EXPECT_EQ(slurp(stick / dst), std::string(515, 'D'));
+  EXPECT_EQ(slurp(stick / exp), std::string(40, 'E'));
+  EXPECT_NE(job.reason.find(dst), std::string::npos) << job.reason;
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(stick)) entries += e.exists() ? 1 : 0;
+  EXPECT_EQ(entries, 2) << "no temporary file may be left on the stick";
+}
+
+TEST(FileDropDevice, AMissingFolderFailsTheJobWithItsReasonAndKeepsTheDesign) {
+  ReadyJob r;
+  FileDropDevice device(r.device(r.tmp.path() / "not-mounted"), r.jobs);
+  const atelier::Job job = r.run(device);
+  ASSERT_EQ(job.state, JobState::failed);
+  EXPECT_NE(job.reason.find("not-mounted is missing"), std::string::npos) << job.reason;
+  EXPECT_NE(job.reason.find("retry"), std::string::npos) << job.reason;
+  EXPECT_EQ(slurp(fs::path(job.output_dir) / "design.dst"), std::string(515, 'D'));
+}
+
+TEST(FileDropDevice, AFullStickFailsTheJobAndTakesBackWhatItHadWritten) {
+  ReadyJob r;
+  std::set<std::string> files;
+  FileDropDevice device(r.device("/media/EMB"), r.jobs,
+                        [&](const fs::path&) { return std::make_unique<FullStick>(1, files); });
+  const atelier::Job job = r.run(device);
+  ASSERT_EQ(job.state, JobState::failed);
+  EXPECT_NE(job.reason.find("No space left"), std::string::npos) << job.reason;
+  EXPECT_TRUE(files.empty()) << "the .dst written before the stick filled up must be removed";
+  EXPECT_EQ(slurp(fs::path(job.output_dir) / "design.exp"), std::string(40, 'E'));
+}
+
+TEST(FileDropDevice, TheRealFolderWriterReportsAMissingFolderAndLeavesNoPartFile) {
+  atelier::test::TempDir tmp;
+  atelier::PosixDropFolder gone(tmp.path() / "gone");
+  try {
+    gone.write_atomically("1-x.dst", "abc");
+    FAIL() << "writing into a missing folder must throw";
+  } catch (const DropError& e) {
+    EXPECT_EQ(e.error_number(), ENOENT);
+    EXPECT_NE(std::string(e.what()).find("gone"), std::string::npos) << e.what();
+  }
+  atelier::PosixDropFolder here(tmp.path());
+  here.write_atomically("1-x.dst", "abc");
+  EXPECT_EQ(slurp(tmp.path() / "1-x.dst"), "abc");
+  EXPECT_FALSE(fs::exists(tmp.path() / ".1-x.dst.part"));
+}
