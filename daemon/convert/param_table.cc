@@ -149,4 +149,18 @@ void merge_into(toml::table& base, const toml::table& overrides) {
   }
 }
 
+std::filesystem::path param_base_dir(const toml::node& node) {
+  const auto& src = node.source();
+  if (!src.path) return {};
+  std::error_code ec;
+  const std::filesystem::path file(*src.path);
+  if (!std::filesystem::is_regular_file(file, ec)) return {};
+  return file.parent_path();
+}
+
+std::filesystem::path resolve_param_path(const std::filesystem::path& path, const toml::node& node) {
+  if (path.is_absolute()) return path;
+  return param_base_dir(node) / path;
+}
+
 }  // namespace atelier

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -60,6 +61,12 @@ class TableReader {
   std::string section_;
   std::set<std::string> read_;
 };
+
+// The folder that relative paths in `node` are relative to: its file's folder when it came
+// from a file, else "" (the cwd). "--set" and "parameters" are not files.
+std::filesystem::path param_base_dir(const toml::node& node);
+// `path` as given in `node`, made relative to param_base_dir(node) unless absolute.
+std::filesystem::path resolve_param_path(const std::filesystem::path& path, const toml::node& node);
 
 // Parses `key=value` as given to `--set`: the value is TOML (number, bool, quoted string,
 // array); anything that is not valid TOML is taken as a bare string. Dotted keys are not

@@ -6,27 +6,7 @@
 #include "daemon/convert/param_table.h"
 
 namespace atelier {
-namespace {
-
 namespace fs = std::filesystem;
-
-// The folder that relative paths in `node` are relative to: its file's folder when it came
-// from a file, else "" (the cwd). "--set" and "parameters" are not files.
-fs::path base_of(const toml::node& node) {
-  const auto& src = node.source();
-  if (!src.path) return {};
-  std::error_code ec;
-  const fs::path file(*src.path);
-  if (!fs::is_regular_file(file, ec)) return {};
-  return file.parent_path();
-}
-
-fs::path resolve(const fs::path& p, const toml::node& node) {
-  if (p.is_absolute()) return p;
-  return base_of(node) / p;
-}
-
-}  // namespace
 
 ParquetryParams read_parquetry_params(const toml::table& table, const std::string& source) {
   TableReader r(table, source, "");
@@ -58,14 +38,14 @@ ParquetryParams read_parquetry_params(const toml::table& table, const std::strin
     const toml::node& node = *table.get("wood");
     if (auto folder = node.value_exact<std::string>()) {
       if (folder->empty()) r.fail("wood", "expected a folder of scans, not an empty string");
-      p.wood_folder = resolve(*folder, node);
+      p.wood_folder = resolve_param_path(*folder, node);
       r.get_string("wood", "");  // mark as read
     } else if (!node.is_array()) {
       r.fail("wood", "expected a folder of scans (a string) or a list of sheets [{id, image}, ...]");
     } else if (const toml::array* list = r.get_array("wood")) {
       if (list->empty()) r.fail("wood", "the list of sheets is empty");
       try {
-        p.wood_list = sheets_from_toml(*list, base_of(node), p.dpi, source);
+        p.wood_list = sheets_from_toml(*list, param_base_dir(node), p.dpi, source);
       } catch (const ConvertError& e) {
         throw ParamError(std::string(e.what()) + " (in key 'wood')");
       }
@@ -74,7 +54,7 @@ ParquetryParams read_parquetry_params(const toml::table& table, const std::strin
   if (r.has("stock")) {
     const std::string dir = r.get_string("stock", "");
     if (dir.empty()) r.fail("stock", "expected a folder for stock.json, not an empty string");
-    p.stock_dir = resolve(dir, *table.get("stock"));
+    p.stock_dir = resolve_param_path(dir, *table.get("stock"));
   }
   if (const toml::table* laser = r.get_table("laser")) {
     p.laser = read_laser_params(*laser, source);
