@@ -1,0 +1,27 @@
+// Recolouring a reference tile for one region (paper 5.4, after Chang et al. 2015): the tile's
+// mean CIELab colour (over its thread pixels) is mapped to the region's palette colour while the
+// shading survives: L by Chang et al.'s monotone piecewise-linear transfer through
+// (0,0), (mean L, target L), (100,100), then a small shift so the mean lands exactly; a and b
+// are shifted by the difference of the means. The target L is capped at max_L, because even
+// white thread looks grey (the paper's overexposure fix).
+// Pure; thread-safe.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace atelier::embroidery {
+
+// The mean CIELab colour (L 0..100) of a tile's pixels where alpha >= 128 (all pixels if none).
+cv::Vec3f tile_mean_lab(const cv::Mat3b& color, const cv::Mat1b& alpha);
+
+// The tile `color` (8-bit B,G,R) recoloured so its thread pixels' mean is `target_lab` with L
+// capped at max_L. `tile_lab` is color converted to CIELab (CV_32FC3, from to_lab()) and
+// `mean_lab` its tile_mean_lab(); both are passed in so that a tile converted once serves every
+// region. Returns a B,G,R tile of the same size.
+cv::Mat3b recolor_tile(const cv::Mat3f& tile_lab, const cv::Mat1b& alpha, const cv::Vec3f& mean_lab,
+                       const cv::Vec3f& target_lab, double max_L);
+
+// 8-bit B,G,R -> float CIELab (L 0..100).
+cv::Mat3f to_lab(const cv::Mat3b& bgr);
+
+}  // namespace atelier::embroidery

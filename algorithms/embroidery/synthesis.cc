@@ -1,0 +1,238 @@
+#include "algorithms/embroidery/synthesis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "algorithms/embroidery/recolor.h"
+#include "algorithms/embroidery/uv_edge.h"
+#include "algorithms/embroidery/uv_long_short.h"
+#include "algorithms/embroidery/uv_satin.h"
+
+namespace atelier::embroidery {
+namespace {
+
+// One style's tile at the image's scale, converted once for all regions.
+struct ScaledTile {
+  cv::Mat3b color;
+  cv::Mat3f lab;
+  cv::Mat1b alpha;
+  cv::Mat3f normal;   // decoded tile-frame normal (u, v-down, out)
+  cv::Vec3f mean_lab;
+  double w_px = 0, h_px = 0;   // tile size in image pixels
+  bool wrap_u = false;         // edge tiles repeat along u; long-short and satin end at contours
+};
+
+ScaledTile scale_tile(const ReferenceTexture& t, Style style, double px_per_mm) {
+  ScaledTile s;
+  s.w_px = t.width_mm * px_per_mm;
+  s.h_px = t.height_mm * px_per_mm;
+  // Satin's u spans a whole column whatever its width, so its u resolution stays.
+  const int w = style == Style::satin ? t.color.cols : std::max(2, static_cast<int>(std::lround(s.w_px)));
+  const int h = std::max(2, static_cast<int>(std::lround(s.h_px)));
+  const int interp = (w < t.color.cols || h < t.color.rows) ? cv::INTER_AREA : cv::INTER_LINEAR;
+  cv::resize(t.color, s.color, cv::Size(w, h), 0, 0, interp);
+  cv::resize(t.alpha, s.alpha, cv::Size(w, h), 0, 0, interp);
+  cv::Mat3b n8;
+  cv::resize(t.normal, n8, cv::Size(w, h), 0, 0, interp);
+  s.normal.create(h, w);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const cv::Vec3b b = n8(y, x);   // B = out, G = up, R = +u
+      cv::Vec3f n(b[2] / 127.5f - 1.f, -(b[1] / 127.5f - 1.f), b[0] / 127.5f - 1.f);
+      const float len = std::sqrt(n.dot(n));
+      s.normal(y, x) = len > 0 ? n / len : cv::Vec3f(0, 0, 1);
+    }
+  s.lab = to_lab(s.color);
+  s.mean_lab = tile_mean_lab(s.color, s.alpha);
+  s.wrap_u = style == Style::edge;
+  return s;
+}
+
+// Bilinear sampling position in a tile: v always repeats, u repeats for edge tiles only.
+struct Tap {
+  int x0, x1, y0, y1;
+  float fx, fy;
+};
+Tap tap(float u, float v, int w, int h, bool wrap_u) {
+  Tap t;
+  float x = u * w - 0.5f, y = v * h - 0.5f;
+  const float xf = std::floor(x), yf = std::floor(y);
+  t.fx = x - xf;
+  t.fy = y - yf;
+  int x0 = static_cast<int>(xf), y0 = static_cast<int>(yf);
+  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  t.y0 = wrap(y0, h);
+  t.y1 = wrap(y0 + 1, h);
+  if (wrap_u) {
+    t.x0 = wrap(x0, w);
+    t.x1 = wrap(x0 + 1, w);
+  } else {
+    t.x0 = std::clamp(x0, 0, w - 1);
+    t.x1 = std::clamp(x0 + 1, 0, w - 1);
+  }
+  return t;
+}
+template <typename T>
+T lerp2(const cv::Mat_<T>& m, const Tap& t) {
+  const T a = m(t.y0, t.x0), b = m(t.y0, t.x1), c = m(t.y1, t.x0), d = m(t.y1, t.x1);
+  return (a * (1 - t.fx) + b * t.fx) * (1 - t.fy) + (c * (1 - t.fx) + d * t.fx) * t.fy;
+}
+
+// One region rendered on its box: colour, alpha and image-frame normal, plus its UVs.
+struct Layer {
+  RegionUV uv;
+  cv::Mat3b color;
+  cv::Mat1b alpha;
+  cv::Mat3f normal;
+  Style style = Style::long_short;
+};
+
+// Long-short regions take in the unsewn pixels inside their inner contours (paper 5.5).
+void merge_holes(const Segmentation& seg, const Region& r, cv::Mat1b& mask) {
+  cv::Mat1b filled;
+  cv::copyMakeBorder(mask, filled, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  cv::floodFill(filled, cv::Point(0, 0), 128);   // the outside
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x)
+      if (filled(y + 1, x + 1) == 0 && seg.region_id(r.bbox.y + y, r.bbox.x + x) < 0) mask(y, x) = 255;
+}
+
+Layer render_region(const Segmentation& seg, const Region& r, double direction, const ScaledTile& tile,
+                    const SynthesisParams& p) {
+  Layer L;
+  L.style = r.style;
+  cv::Mat1b mask = r.mask.clone();
+  if (r.style == Style::long_short) merge_holes(seg, r, mask);
+  // Dilate on a box grown by dilate_px and clipped to the image.
+  const int d = p.dilate_px;
+  const cv::Rect grown(r.bbox.x - d, r.bbox.y - d, r.bbox.width + 2 * d, r.bbox.height + 2 * d);
+  const cv::Rect box = grown & cv::Rect(0, 0, seg.size.width, seg.size.height);
+  cv::Mat1b big(grown.size(), uchar(0));
+  mask.copyTo(big(cv::Rect(d, d, mask.cols, mask.rows)));
+  if (d > 0)
+    cv::dilate(big, big, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * d + 1, 2 * d + 1)));
+  const cv::Mat1b m = big(cv::Rect(box.x - grown.x, box.y - grown.y, box.width, box.height)).clone();
+  switch (r.style) {
+    case Style::long_short: L.uv = uv_long_short(m, box, direction, tile.w_px, tile.h_px); break;
+    case Style::satin: L.uv = uv_satin(m, box, tile.w_px, tile.h_px, direction); break;
+    case Style::edge: L.uv = uv_edge(m, box, tile.w_px, tile.h_px, direction); break;
+  }
+  const cv::Mat3b colored = recolor_tile(tile.lab, tile.alpha, tile.mean_lab, seg.palette.lab.at(r.color), p.max_L);
+  const cv::Mat_<cv::Vec3f> colf = [&] {
+    cv::Mat3f f;
+    colored.convertTo(f, CV_32F);
+    return f;
+  }();
+  cv::Mat1f alphaf;
+  tile.alpha.convertTo(alphaf, CV_32F);
+  L.color.create(box.size());
+  L.alpha.create(box.size());
+  L.normal.create(box.size());
+  const int tw = tile.color.cols, th = tile.color.rows;
+  for (int y = 0; y < box.height; ++y)
+    for (int x = 0; x < box.width; ++x) {
+      if (!L.uv.mask(y, x)) {
+        L.alpha(y, x) = 0;
+        continue;
+      }
+      const cv::Vec2f uv = L.uv.uv(y, x);
+      const Tap t = tap(uv[0], uv[1], tw, th, tile.wrap_u);
+      const cv::Vec3f c = lerp2(colf, t);
+      L.color(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                                cv::saturate_cast<uchar>(c[2]));
+      L.alpha(y, x) = cv::saturate_cast<uchar>(lerp2(alphaf, t));
+      // Tile normal (u, v, out) into the image frame: +u along `angle`, +v at angle + 90 deg.
+      const cv::Vec3f n = lerp2(tile.normal, t);
+      const float a = L.uv.angle(y, x), ca = std::cos(a), sa = std::sin(a);
+      cv::Vec3f img(n[0] * ca - n[1] * sa, n[0] * sa + n[1] * ca, n[2]);
+      const float len = std::sqrt(img.dot(img));
+      L.normal(y, x) = len > 0 ? img / len : cv::Vec3f(0, 0, 1);
+    }
+  L.uv.angle.release();
+  return L;
+}
+
+}  // namespace
+
+Synthesis synthesize(const Segmentation& seg, const std::vector<double>& directions, const TextureSet& textures,
+                     const SynthesisParams& p) {
+  if (!(p.px_per_mm > 0) || !std::isfinite(p.px_per_mm))
+    throw std::invalid_argument("synthesis: px_per_mm must be positive");
+  if (!(p.max_L > 0 && p.max_L <= 100)) throw std::invalid_argument("synthesis: max_L must be in (0, 100]");
+  if (p.dilate_px < 0) throw std::invalid_argument("synthesis: dilate_px must not be negative");
+  if (directions.size() != seg.regions.size())
+    throw std::invalid_argument("synthesis: " + std::to_string(directions.size()) + " directions for " +
+                                std::to_string(seg.regions.size()) + " regions");
+  if (seg.region_id.size() != seg.size)
+    throw std::invalid_argument("synthesis: the region_id image's size differs from the segmentation's");
+  for (const Region& r : seg.regions) {
+    if (r.color < 0 || r.color >= static_cast<int>(seg.palette.lab.size()))
+      throw std::invalid_argument("synthesis: region " + std::to_string(r.id) + " has no palette colour");
+    if (r.mask.size() != r.bbox.size() || (r.bbox & cv::Rect(0, 0, seg.size.width, seg.size.height)) != r.bbox)
+      throw std::invalid_argument("synthesis: region " + std::to_string(r.id) + " has a bad box or mask");
+  }
+  ScaledTile tiles[kStyleCount];
+  for (int s = 0; s < kStyleCount; ++s) {
+    validate_texture(textures.style[s]);
+    tiles[s] = scale_tile(textures.style[s], static_cast<Style>(s), p.px_per_mm);
+  }
+
+  const int n = static_cast<int>(seg.regions.size());
+  std::vector<Layer> layers(n);
+  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const Region& r = seg.regions[i];
+      if (r.mask.empty() || r.area_px == 0) continue;
+      layers[i] = render_region(seg, r, directions[i], tiles[static_cast<int>(r.style)], p);
+    }
+  });
+
+  Synthesis out;
+  out.preview.create(seg.size);
+  out.preview.setTo(p.fabric_bgr);
+  cv::Mat3f normal(seg.size, cv::Vec3f(0, 0, 1));
+  out.uv.create(seg.size);
+  out.uv.setTo(cv::Vec2f(std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN()));
+  out.style = cv::Mat1b::zeros(seg.size);
+  // Layers (5.5): long-short in the background, then satin, then edge on top; within a layer,
+  // by region index. Alpha lets seams show what lies below.
+  for (int s = 0; s < kStyleCount; ++s)
+    for (int i = 0; i < n; ++i) {
+      const Layer& L = layers[i];
+      if (static_cast<int>(L.style) != s || L.uv.mask.empty()) continue;
+      const cv::Rect b = L.uv.box;
+      for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) {
+          if (!L.uv.mask(y, x)) continue;
+          const int X = b.x + x, Y = b.y + y;
+          out.uv(Y, X) = L.uv.uv(y, x);
+          out.style(Y, X) = static_cast<uchar>(s + 1);
+          const float a = L.alpha(y, x) / 255.f;
+          if (a <= 0) continue;
+          cv::Vec3b& o = out.preview(Y, X);
+          const cv::Vec3b c = L.color(y, x);
+          for (int k = 0; k < 3; ++k) o[k] = cv::saturate_cast<uchar>(a * c[k] + (1 - a) * o[k]);
+          normal(Y, X) = a * L.normal(y, x) + (1 - a) * normal(Y, X);
+        }
+    }
+  out.normal.create(seg.size);
+  for (int y = 0; y < seg.size.height; ++y)
+    for (int x = 0; x < seg.size.width; ++x) {
+      cv::Vec3f v = normal(y, x);
+      const float len = std::sqrt(v.dot(v));
+      v = len > 0 ? v / len : cv::Vec3f(0, 0, 1);
+      // Image frame (x right, y down) to the OpenGL convention: G = up = -y. Stored B,G,R.
+      out.normal(y, x) = cv::Vec3b(cv::saturate_cast<uchar>((v[2] + 1) * 127.5f),
+                                   cv::saturate_cast<uchar>((-v[1] + 1) * 127.5f),
+                                   cv::saturate_cast<uchar>((v[0] + 1) * 127.5f));
+    }
+  return out;
+}
+
+}  // namespace atelier::embroidery

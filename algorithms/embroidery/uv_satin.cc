@@ -1,0 +1,206 @@
+#include "algorithms/embroidery/uv_satin.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "algorithms/embroidery/skeleton.h"
+#include "algorithms/embroidery/uv_long_short.h"
+
+namespace atelier::embroidery {
+namespace {
+
+struct Sample {
+  int branch;
+  int k;   // index along the branch's curve
+};
+
+struct ContourPx {
+  float s;   // foot point: arc length along the branch's curve
+  cv::Point2f p;
+};
+
+struct Pair {
+  cv::Point2f c0, c1;   // c0 on the +normal side (u = 0), c1 on the other (u = 1)
+  float s_mid;          // where along the curve it sits
+  float v;              // unwrapped: piece index + relative contour order
+};
+
+}  // namespace
+
+RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, double tile_h_px,
+                  double direction) {
+  const double step = 1.0;
+  cv::Mat1f dt;
+  cv::distanceTransform(mask, dt, cv::DIST_L2, cv::DIST_MASK_5);
+  double max_dt = 0;
+  cv::minMaxLoc(dt, nullptr, &max_dt);
+  const double width = 2 * max_dt;
+  const std::vector<SkeletonBranch> branches = skeleton_branches(mask, std::max(4.0, 0.5 * width));
+  if (branches.empty()) return uv_long_short(mask, box, direction, tile_w_px, tile_h_px);
+
+  // 1-3: curves, and every pixel's nearest curve sample (its branch = its sub-region).
+  std::vector<SampledCurve> curves;
+  std::vector<cv::Point2f> pts;
+  std::vector<Sample> owner;
+  for (int b = 0; b < static_cast<int>(branches.size()); ++b) {
+    curves.push_back(fit_bspline(branches[b], step, 0.5 * width + 2));
+    for (int k = 0; k < static_cast<int>(curves[b].points.size()); ++k) {
+      pts.push_back(curves[b].points[k]);
+      owner.push_back({b, k});
+    }
+  }
+  const cv::Mat1i nearest = nearest_point_index(mask.size(), pts);
+  if (pts.empty() || nearest(0, 0) < 0) return uv_long_short(mask, box, direction, tile_w_px, tile_h_px);
+
+  // Foot point and side of a pixel on its branch's curve.
+  auto foot = [&](int x, int y, int* branch, float* s, float* d, cv::Point2f* tangent) {
+    const Sample smp = owner[nearest(y, x)];
+    const SampledCurve& c = curves[smp.branch];
+    // The distance transform's neighbour is approximate: look a few samples either way.
+    const cv::Point2f p(static_cast<float>(x), static_cast<float>(y));
+    int k = smp.k;
+    float best = 1e30f;
+    for (int j = std::max(0, smp.k - 3); j <= std::min<int>(c.points.size() - 1, smp.k + 3); ++j) {
+      const cv::Point2f q = p - c.points[j];
+      const float dd = q.dot(q);
+      if (dd < best) best = dd, k = j;
+    }
+    const cv::Point2f q = p - c.points[k];
+    const cv::Point2f t = c.tangents[k];
+    *branch = smp.branch;
+    *s = static_cast<float>(k * step) + q.dot(t);
+    *d = t.x * q.y - t.y * q.x;
+    *tangent = t;
+  };
+
+  // 4: contour pixels of each sub-region (the region contour, completed by the split between
+  // sub-regions), per side, ordered by foot point.
+  const int nb = static_cast<int>(branches.size());
+  std::vector<std::vector<ContourPx>> side[2];
+  side[0].resize(nb);
+  side[1].resize(nb);
+  cv::Mat1i branch_of(mask.size(), -1);
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x)
+      if (mask(y, x)) branch_of(y, x) = owner[nearest(y, x)].branch;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      const int b = branch_of(y, x);
+      if (b < 0) continue;
+      bool contour = false;
+      static const int kDx[4] = {1, -1, 0, 0}, kDy[4] = {0, 0, 1, -1};
+      for (int i = 0; i < 4 && !contour; ++i) {
+        const int xx = x + kDx[i], yy = y + kDy[i];
+        contour = xx < 0 || yy < 0 || xx >= mask.cols || yy >= mask.rows || branch_of(yy, xx) != b;
+      }
+      if (!contour) continue;
+      int bb;
+      float s, d;
+      cv::Point2f t;
+      foot(x, y, &bb, &s, &d, &t);
+      side[d > 0 ? 0 : 1][b].push_back({s, cv::Point2f(static_cast<float>(x), static_cast<float>(y))});
+    }
+
+  // 5: pieces one tile high along the curve; pairs by relative order within each piece.
+  std::vector<std::vector<Pair>> pairs(nb);
+  for (int b = 0; b < nb; ++b) {
+    for (auto& sd : side) {
+      std::stable_sort(sd[b].begin(), sd[b].end(), [](const ContourPx& a, const ContourPx& c) { return a.s < c.s; });
+    }
+    const auto& A = side[0][b];
+    const auto& B = side[1][b];
+    size_t ia = 0, ib = 0;
+    while (ia < A.size() || ib < B.size()) {
+      const float sa = ia < A.size() ? A[ia].s : 1e30f, sb = ib < B.size() ? B[ib].s : 1e30f;
+      const int piece = static_cast<int>(std::floor(std::min(sa, sb) / tile_h_px));
+      const float end = static_cast<float>((piece + 1) * tile_h_px);
+      size_t ja = ia, jb = ib;
+      while (ja < A.size() && A[ja].s < end) ++ja;
+      while (jb < B.size() && B[jb].s < end) ++jb;
+      const size_t na = ja - ia, nbb = jb - ib, m = std::max(na, nbb);
+      if (na > 0 && nbb > 0)
+        for (size_t i = 0; i < m; ++i) {   // one-to-many when the sides differ
+          const double f = (i + 0.5) / m;
+          const ContourPx& a = A[ia + std::min(na - 1, static_cast<size_t>(f * na))];
+          const ContourPx& c = B[ib + std::min(nbb - 1, static_cast<size_t>(f * nbb))];
+          pairs[b].push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(piece + f)});
+        }
+      ia = ja;
+      ib = jb;
+    }
+    std::stable_sort(pairs[b].begin(), pairs[b].end(), [](const Pair& a, const Pair& c) { return a.s_mid < c.s_mid; });
+  }
+
+  // 6: u along the pairs' lines, v from their order, blended with eq. 7.
+  RegionUV out;
+  out.box = box;
+  out.mask = mask.clone();
+  out.uv = cv::Mat2f(mask.size(), cv::Vec2f(0, 0));
+  out.angle = cv::Mat1f(mask.size(), static_cast<float>(direction));
+  const float window = static_cast<float>(std::max(3.0, 0.5 * tile_h_px));
+  bool missing = false;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      if (!mask(y, x)) continue;
+      int b;
+      float s, d;
+      cv::Point2f t;
+      foot(x, y, &b, &s, &d, &t);
+      const auto& P = pairs[b];
+      if (P.empty()) {
+        missing = true;
+        out.mask(y, x) = 0;
+        continue;
+      }
+      const cv::Point2f p(static_cast<float>(x), static_cast<float>(y));
+      auto lo = std::lower_bound(P.begin(), P.end(), s - window, [](const Pair& a, float v) { return a.s_mid < v; });
+      double sw = 0, su = 0, sv = 0;
+      auto pair_uv = [&](const Pair& q, double* u, double* dist, double* len) {
+        const cv::Point2f e = q.c1 - q.c0;
+        *len = std::sqrt(e.dot(e));
+        const cv::Point2f r = p - q.c0;
+        *u = *len > 1e-6 ? std::clamp(r.dot(e) / (*len * *len), 0.0, 1.0) : 0.5;
+        *dist = *len > 1e-6 ? std::abs(e.x * r.y - e.y * r.x) / *len : std::sqrt(r.dot(r));
+      };
+      for (auto it = lo; it != P.end() && it->s_mid <= s + window; ++it) {
+        double u, dist, len;
+        pair_uv(*it, &u, &dist, &len);
+        if (len < 1e-6) continue;
+        const cv::Point2f r0 = p - it->c0, r1 = p - it->c1;
+        const double w = std::exp(-(std::sqrt(r0.dot(r0)) + std::sqrt(r1.dot(r1))) * dist / len);   // eq. 7
+        sw += w;
+        su += w * u;
+        sv += w * it->v;
+      }
+      double u, v;
+      if (sw > 1e-12) {
+        u = su / sw;
+        v = sv / sw;
+      } else {
+        // No pair near the foot point (a piece with one side only): the nearest pair.
+        auto it = lo == P.end() ? P.end() - 1 : lo;
+        if (it != P.begin() && std::abs((it - 1)->s_mid - s) < std::abs(it->s_mid - s)) --it;
+        double dist, len;
+        pair_uv(*it, &u, &dist, &len);
+        v = it->v;
+      }
+      out.uv(y, x) = cv::Vec2f(static_cast<float>(u), static_cast<float>(v - std::floor(v)));
+      // +u runs from the +normal side to the other: (t.y, -t.x); +v is then along the curve.
+      out.angle(y, x) = std::atan2(-t.x, t.y);
+    }
+  if (missing) {
+    // Sub-regions with no pair (a branch whose contour lies on one side only) take the
+    // long-short map in the region's direction.
+    cv::Mat1b rest = mask & ~out.mask;
+    const RegionUV ls = uv_long_short(rest, box, direction, tile_w_px, tile_h_px);
+    ls.uv.copyTo(out.uv, rest);
+    ls.angle.copyTo(out.angle, rest);
+    out.mask = mask.clone();
+  }
+  return out;
+}
+
+}  // namespace atelier::embroidery
