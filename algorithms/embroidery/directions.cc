@@ -42,9 +42,11 @@ double across_direction(const cv::Mat1b& mask, bool* ok) {
   return fold(0.5 * std::atan2(s, c));
 }
 
-double bbox_direction(const cv::Mat1b& mask) {
+// The long axis of the minimum-area bounding box. The hull of the outer contours is the hull of
+// the region, so only contour points go to minAreaRect (a large region has millions of pixels).
+double bbox_direction(const std::vector<std::vector<cv::Point>>& contours) {
   std::vector<cv::Point> pts;
-  cv::findNonZero(mask, pts);
+  for (const auto& c : contours) pts.insert(pts.end(), c.begin(), c.end());
   if (pts.size() < 3) return 0.0;
   const cv::RotatedRect r = cv::minAreaRect(pts);
   cv::Point2f c[4];
@@ -53,6 +55,12 @@ double bbox_direction(const cv::Mat1b& mask) {
   const cv::Point2f a = c[0] - c[1], b = c[2] - c[1];
   const cv::Point2f l = a.dot(a) >= b.dot(b) ? a : b;
   return fold(std::atan2(l.y, l.x));
+}
+
+std::vector<std::vector<cv::Point>> outer_contours(const cv::Mat1b& mask) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(padded(mask), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  return contours;
 }
 
 }  // namespace
@@ -77,7 +85,7 @@ std::vector<double> region_directions(const Segmentation& seg) {
       bool ok = false;
       const double across = across_direction(r.mask, &ok);
       if (!ok) {
-        dir[i] = bbox_direction(r.mask);
+        dir[i] = bbox_direction(outer_contours(r.mask));
         continue;
       }
       dir[i] = r.style == Style::satin ? across : fold(across + kPi / 2);
@@ -86,12 +94,10 @@ std::vector<double> region_directions(const Segmentation& seg) {
   // Pass 2: long-short regions from the satin/edge neighbours along their external contour.
   cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
     std::vector<double> angles, weights;
-    std::vector<cv::Point> outer;
     for (int i = range.start; i < range.end; ++i) {
       const Region& r = seg.regions[i];
       if (r.style != Style::long_short || r.mask.empty()) continue;
-      std::vector<std::vector<cv::Point>> contours;
-      cv::findContours(padded(r.mask), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+      const auto contours = outer_contours(r.mask);
       angles.clear();
       weights.clear();
       for (const auto& contour : contours)
@@ -108,7 +114,7 @@ std::vector<double> region_directions(const Segmentation& seg) {
             weights.push_back(1.0);
           }
         }
-      dir[i] = angles.empty() ? bbox_direction(r.mask) : axis_mean(angles, weights);
+      dir[i] = angles.empty() ? bbox_direction(contours) : axis_mean(angles, weights);
     }
   });
   return dir;

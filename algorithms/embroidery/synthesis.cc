@@ -22,6 +22,7 @@ struct ScaledTile {
   cv::Mat3b color;
   cv::Mat3f lab;
   cv::Mat1b alpha;
+  cv::Mat1f alphaf;
   cv::Mat3f normal;   // decoded tile-frame normal (u, v-down, out)
   cv::Vec3f mean_lab;
   double w_px = 0, h_px = 0;   // tile size in image pixels
@@ -48,6 +49,7 @@ ScaledTile scale_tile(const ReferenceTexture& t, Style style, double px_per_mm) 
       const float len = std::sqrt(n.dot(n));
       s.normal(y, x) = len > 0 ? n / len : cv::Vec3f(0, 0, 1);
     }
+  s.alpha.convertTo(s.alphaf, CV_32F);
   s.lab = to_lab(s.color);
   s.mean_lab = tile_mean_lab(s.color, s.alpha);
   s.wrap_u = style == Style::edge;
@@ -60,18 +62,19 @@ struct Tap {
   float fx, fy;
 };
 Tap tap(float u, float v, int w, int h, bool wrap_u) {
+  // u, v are in [0, 1] (UV maps keep them there), so one step of wrapping is enough.
   Tap t;
-  float x = u * w - 0.5f, y = v * h - 0.5f;
+  const float x = u * w - 0.5f, y = v * h - 0.5f;
   const float xf = std::floor(x), yf = std::floor(y);
   t.fx = x - xf;
   t.fy = y - yf;
-  int x0 = static_cast<int>(xf), y0 = static_cast<int>(yf);
-  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
-  t.y0 = wrap(y0, h);
-  t.y1 = wrap(y0 + 1, h);
+  const int x0 = static_cast<int>(xf), y0 = static_cast<int>(yf);
+  auto wrap = [](int i, int n) { return i < 0 ? i + n : i >= n ? i - n : i; };
+  t.y0 = wrap(std::clamp(y0, -1, h), h);
+  t.y1 = wrap(std::clamp(y0 + 1, -1, h), h);
   if (wrap_u) {
-    t.x0 = wrap(x0, w);
-    t.x1 = wrap(x0 + 1, w);
+    t.x0 = wrap(std::clamp(x0, -1, w), w);
+    t.x1 = wrap(std::clamp(x0 + 1, -1, w), w);
   } else {
     t.x0 = std::clamp(x0, 0, w - 1);
     t.x1 = std::clamp(x0 + 1, 0, w - 1);
@@ -84,12 +87,11 @@ T lerp2(const cv::Mat_<T>& m, const Tap& t) {
   return (a * (1 - t.fx) + b * t.fx) * (1 - t.fy) + (c * (1 - t.fx) + d * t.fx) * t.fy;
 }
 
-// One region rendered on its box: colour, alpha and image-frame normal, plus its UVs.
+// One region ready to render: its UVs and its recoloured tile (colour as float B,G,R).
 struct Layer {
   RegionUV uv;
-  cv::Mat3b color;
-  cv::Mat1b alpha;
-  cv::Mat3f normal;
+  cv::Mat3f color;
+  const ScaledTile* tile = nullptr;
   Style style = Style::long_short;
 };
 
@@ -103,10 +105,11 @@ void merge_holes(const Segmentation& seg, const Region& r, cv::Mat1b& mask) {
       if (filled(y + 1, x + 1) == 0 && seg.region_id(r.bbox.y + y, r.bbox.x + x) < 0) mask(y, x) = 255;
 }
 
-Layer render_region(const Segmentation& seg, const Region& r, double direction, const ScaledTile& tile,
-                    const SynthesisParams& p) {
+Layer prepare_region(const Segmentation& seg, const Region& r, double direction, const ScaledTile& tile,
+                     const SynthesisParams& p) {
   Layer L;
   L.style = r.style;
+  L.tile = &tile;
   cv::Mat1b mask = r.mask.clone();
   if (r.style == Style::long_short) merge_holes(seg, r, mask);
   // Dilate on a box grown by dilate_px and clipped to the image.
@@ -123,38 +126,7 @@ Layer render_region(const Segmentation& seg, const Region& r, double direction, 
     case Style::satin: L.uv = uv_satin(m, box, tile.w_px, tile.h_px, direction); break;
     case Style::edge: L.uv = uv_edge(m, box, tile.w_px, tile.h_px, direction); break;
   }
-  const cv::Mat3b colored = recolor_tile(tile.lab, tile.alpha, tile.mean_lab, seg.palette.lab.at(r.color), p.max_L);
-  const cv::Mat_<cv::Vec3f> colf = [&] {
-    cv::Mat3f f;
-    colored.convertTo(f, CV_32F);
-    return f;
-  }();
-  cv::Mat1f alphaf;
-  tile.alpha.convertTo(alphaf, CV_32F);
-  L.color.create(box.size());
-  L.alpha.create(box.size());
-  L.normal.create(box.size());
-  const int tw = tile.color.cols, th = tile.color.rows;
-  for (int y = 0; y < box.height; ++y)
-    for (int x = 0; x < box.width; ++x) {
-      if (!L.uv.mask(y, x)) {
-        L.alpha(y, x) = 0;
-        continue;
-      }
-      const cv::Vec2f uv = L.uv.uv(y, x);
-      const Tap t = tap(uv[0], uv[1], tw, th, tile.wrap_u);
-      const cv::Vec3f c = lerp2(colf, t);
-      L.color(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
-                                cv::saturate_cast<uchar>(c[2]));
-      L.alpha(y, x) = cv::saturate_cast<uchar>(lerp2(alphaf, t));
-      // Tile normal (u, v, out) into the image frame: +u along `angle`, +v at angle + 90 deg.
-      const cv::Vec3f n = lerp2(tile.normal, t);
-      const float a = L.uv.angle(y, x), ca = std::cos(a), sa = std::sin(a);
-      cv::Vec3f img(n[0] * ca - n[1] * sa, n[0] * sa + n[1] * ca, n[2]);
-      const float len = std::sqrt(img.dot(img));
-      L.normal(y, x) = len > 0 ? img / len : cv::Vec3f(0, 0, 1);
-    }
-  L.uv.angle.release();
+  recolor_tile(tile.lab, tile.alpha, tile.mean_lab, seg.palette.lab.at(r.color), p.max_L).convertTo(L.color, CV_32F);
   return L;
 }
 
@@ -189,49 +161,79 @@ Synthesis synthesize(const Segmentation& seg, const std::vector<double>& directi
     for (int i = range.start; i < range.end; ++i) {
       const Region& r = seg.regions[i];
       if (r.mask.empty() || r.area_px == 0) continue;
-      layers[i] = render_region(seg, r, directions[i], tiles[static_cast<int>(r.style)], p);
+      layers[i] = prepare_region(seg, r, directions[i], tiles[static_cast<int>(r.style)], p);
     }
   });
 
-  Synthesis out;
-  out.preview.create(seg.size);
-  out.preview.setTo(p.fabric_bgr);
-  cv::Mat3f normal(seg.size, cv::Vec3f(0, 0, 1));
-  out.uv.create(seg.size);
-  out.uv.setTo(cv::Vec2f(std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN()));
-  out.style = cv::Mat1b::zeros(seg.size);
   // Layers (5.5): long-short in the background, then satin, then edge on top; within a layer,
   // by region index. Alpha lets seams show what lies below.
+  std::vector<int> order;
   for (int s = 0; s < kStyleCount; ++s)
-    for (int i = 0; i < n; ++i) {
-      const Layer& L = layers[i];
-      if (static_cast<int>(L.style) != s || L.uv.mask.empty()) continue;
-      const cv::Rect b = L.uv.box;
-      for (int y = 0; y < b.height; ++y)
-        for (int x = 0; x < b.width; ++x) {
-          if (!L.uv.mask(y, x)) continue;
-          const int X = b.x + x, Y = b.y + y;
-          out.uv(Y, X) = L.uv.uv(y, x);
-          out.style(Y, X) = static_cast<uchar>(s + 1);
-          const float a = L.alpha(y, x) / 255.f;
-          if (a <= 0) continue;
-          cv::Vec3b& o = out.preview(Y, X);
-          const cv::Vec3b c = L.color(y, x);
-          for (int k = 0; k < 3; ++k) o[k] = cv::saturate_cast<uchar>(a * c[k] + (1 - a) * o[k]);
-          normal(Y, X) = a * L.normal(y, x) + (1 - a) * normal(Y, X);
-        }
-    }
+    for (int i = 0; i < n; ++i)
+      if (static_cast<int>(layers[i].style) == s && !layers[i].uv.mask.empty()) order.push_back(i);
+
+  Synthesis out;
+  out.preview.create(seg.size);
   out.normal.create(seg.size);
-  for (int y = 0; y < seg.size.height; ++y)
-    for (int x = 0; x < seg.size.width; ++x) {
-      cv::Vec3f v = normal(y, x);
-      const float len = std::sqrt(v.dot(v));
-      v = len > 0 ? v / len : cv::Vec3f(0, 0, 1);
-      // Image frame (x right, y down) to the OpenGL convention: G = up = -y. Stored B,G,R.
-      out.normal(y, x) = cv::Vec3b(cv::saturate_cast<uchar>((v[2] + 1) * 127.5f),
-                                   cv::saturate_cast<uchar>((-v[1] + 1) * 127.5f),
-                                   cv::saturate_cast<uchar>((v[0] + 1) * 127.5f));
+  out.uv.create(seg.size);
+  out.style.create(seg.size);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // Composition in bands of rows: every band walks the layers in order, so bands are
+  // independent and the result does not depend on the thread count.
+  cv::parallel_for_(cv::Range(0, seg.size.height), [&](const cv::Range& rows) {
+    const cv::Rect band(0, rows.start, seg.size.width, rows.end - rows.start);
+    out.preview(band).setTo(p.fabric_bgr);
+    out.uv(band).setTo(cv::Vec2f(nan, nan));
+    out.style(band).setTo(0);
+    cv::Mat3f normal(band.size(), cv::Vec3f(0, 0, 1));
+    for (int i : order) {
+      const Layer& L = layers[i];
+      const cv::Rect b = L.uv.box;
+      const int y0 = std::max(b.y, rows.start), y1 = std::min(b.y + b.height, rows.end);
+      const uchar style = static_cast<uchar>(static_cast<int>(L.style) + 1);
+      const ScaledTile& tile = *L.tile;
+      const int tw = tile.color.cols, th = tile.color.rows;
+      float last_angle = std::numeric_limits<float>::quiet_NaN(), ca = 1, sa = 0;
+      for (int Y = y0; Y < y1; ++Y) {
+        const int y = Y - b.y;
+        const uchar* m = L.uv.mask.ptr<uchar>(y);
+        const cv::Vec2f* uv = L.uv.uv.ptr<cv::Vec2f>(y);
+        cv::Vec3b* o = out.preview.ptr<cv::Vec3b>(Y) + b.x;
+        cv::Vec2f* ouv = out.uv.ptr<cv::Vec2f>(Y) + b.x;
+        uchar* ost = out.style.ptr<uchar>(Y) + b.x;
+        cv::Vec3f* on = normal.ptr<cv::Vec3f>(Y - rows.start) + b.x;
+        for (int x = 0; x < b.width; ++x) {
+          if (!m[x]) continue;
+          ouv[x] = uv[x];
+          ost[x] = style;
+          const Tap t = tap(uv[x][0], uv[x][1], tw, th, tile.wrap_u);
+          const float a = lerp2(tile.alphaf, t) / 255.f;
+          if (a <= 0) continue;
+          const cv::Vec3f c = lerp2(L.color, t);
+          for (int k = 0; k < 3; ++k) o[x][k] = cv::saturate_cast<uchar>(a * c[k] + (1 - a) * o[x][k]);
+          // Tile normal (u, v, out) into the image frame: +u along the stitch angle, +v at
+          // angle + 90 deg.
+          const float ang = L.uv.angle_at(y, x);
+          if (ang != last_angle) last_angle = ang, ca = std::cos(ang), sa = std::sin(ang);
+          const cv::Vec3f nt = lerp2(tile.normal, t);
+          const cv::Vec3f img(nt[0] * ca - nt[1] * sa, nt[0] * sa + nt[1] * ca, nt[2]);
+          on[x] = a * img + (1 - a) * on[x];
+        }
+      }
     }
+    for (int Y = rows.start; Y < rows.end; ++Y) {
+      const cv::Vec3f* nr = normal.ptr<cv::Vec3f>(Y - rows.start);
+      cv::Vec3b* o = out.normal.ptr<cv::Vec3b>(Y);
+      for (int x = 0; x < seg.size.width; ++x) {
+        cv::Vec3f v = nr[x];
+        const float len = std::sqrt(v.dot(v));
+        v = len > 0 ? v / len : cv::Vec3f(0, 0, 1);
+        // Image frame (x right, y down) to the OpenGL convention: G = up = -y. Stored B,G,R.
+        o[x] = cv::Vec3b(cv::saturate_cast<uchar>((v[2] + 1) * 127.5f), cv::saturate_cast<uchar>((-v[1] + 1) * 127.5f),
+                         cv::saturate_cast<uchar>((v[0] + 1) * 127.5f));
+      }
+    }
+  }, 16);
   return out;
 }
 

@@ -89,18 +89,23 @@ Texel long_short_texel(double x, double y, int w, int h) {
 }
 
 Texel satin_texel(double x, double y, int w, int h) {
-  const double pitch = h / 4.0;         // four 0.25 mm threads per mm
+  const double pitch = h / 3.0;         // three 0.4 mm threads (Ink/Stitch satin spacing)
   const int j = static_cast<int>(std::floor(y / pitch));
   const double t = 2.0 * (y / pitch - j) - 1.0;
   const double u = x / w;
   const double to_end = std::min(u, 1.0 - u);                 // the column's contour
   Texel s;
   const double hgt = bulge(t);
+  // A satin column is domed (threads pulled over the column): bright crest, darker sides, and
+  // a sheen just before the crest. This survives when the threads themselves are sub-pixel.
+  const double dome = std::sin(kPi * u);
+  const double crest = std::exp(-((u - 0.4) / 0.18) * ((u - 0.4) / 0.18));
   const double slow = 0.9 + 0.1 * std::cos(2 * kPi * (u * 1.5 + 0.3 * jitter(j, 2)));
   const double sink = std::min(1.0, to_end / 0.06 + 0.35);
-  s.brightness = (0.28 + 0.45 * hgt + 0.35 * sheen(t, 0.3) * slow) * (0.6 + 0.4 * sink);
+  s.brightness = (0.25 + 0.40 * hgt * (0.55 + 0.45 * dome) + 0.30 * crest * (0.6 + 0.4 * hgt) * slow) *
+                 (0.6 + 0.4 * sink);
   const double slope = (1.0 - std::min(1.0, to_end / 0.06)) * 0.7;
-  s.nu = u < 0.5 ? slope : -slope;
+  s.nu = (u < 0.5 ? slope : -slope) - 0.5 * std::cos(kPi * u);
   s.nv = t;
   s.nz = std::max(0.15, hgt);
   return s;
@@ -130,7 +135,7 @@ Texel edge_texel(double x, double y, int w, int h) {
 TextureSet procedural_textures() {
   TextureSet set;
   set.style[static_cast<int>(Style::long_short)] = make_tile(8.0, 3.0, long_short_texel);
-  set.style[static_cast<int>(Style::satin)] = make_tile(4.0, 1.0, satin_texel);
+  set.style[static_cast<int>(Style::satin)] = make_tile(4.0, 1.2, satin_texel);
   set.style[static_cast<int>(Style::edge)] = make_tile(2.0, 1.0, edge_texel);
   return set;
 }

@@ -34,8 +34,9 @@ struct TextureSet {
 //    length 4 mm with the stitch ends of neighbouring threads staggered by 2 mm (long and short
 //    stitches). The centre u in [0.25, 0.75] is exactly one period, so repeating it is seamless;
 //    the threads end cleanly at u = 0 and u = 1 (where the row meets the region contour).
-//  - satin: 4 mm (u, across the column; stretched to the column width) x 1 mm (v, along the
-//    column): four 0.25 mm threads, each one stitch across the whole column, with a long sheen.
+//  - satin: 4 mm (u, across the column; stretched to the column width) x 1.2 mm (v, along the
+//    column): three threads 0.4 mm apart (Ink/Stitch's zig-zag spacing), each one stitch across
+//    the whole column, on a domed column with a sheen before its crest.
 //  - edge: 2 mm (u, along the stroke) x 1 mm (v, across it): short stitches slanted at 35 deg,
 //    0.33 mm apart, with small transparent gaps between them.
 TextureSet procedural_textures();

@@ -27,13 +27,13 @@ RegionUV uv_long_short(const cv::Mat1b& mask, const cv::Rect& box, double angle,
   out.box = box;
   out.mask = mask.clone();
   out.uv = cv::Mat2f(mask.size(), cv::Vec2f(0, 0));
-  out.angle = cv::Mat1f(mask.size(), static_cast<float>(angle));
+  out.direction = static_cast<float>(angle);   // one direction: no per-pixel angle image
   const double c = std::cos(angle), s = std::sin(angle);
   // Rotated frame: x' = c x + s y (along the stitches), y' = -s x + c y (row growth), at pixel
   // centres. A scanline is the set of pixels with equal floor(y').
   struct Px {
     float xr, yr;
-    int y, x;
+    int y, x, row;
   };
   std::vector<Px> px;
   px.reserve(static_cast<size_t>(cv::countNonZero(mask)));
@@ -43,23 +43,25 @@ RegionUV uv_long_short(const cv::Mat1b& mask, const cv::Rect& box, double angle,
     for (int x = 0; x < mask.cols; ++x)
       if (m[x]) {
         const double yr = -s * (x + 0.5) + c * (y + 0.5);
-        px.push_back({static_cast<float>(c * (x + 0.5) + s * (y + 0.5)), static_cast<float>(yr), y, x});
+        px.push_back({static_cast<float>(c * (x + 0.5) + s * (y + 0.5)), static_cast<float>(yr), y, x, 0});
         y0 = std::min(y0, yr);
       }
   }
   if (px.empty()) return out;
   // Bucket the pixels by scanline (counting sort), then order each scanline along x'.
   const double row0 = std::floor(y0);
-  auto row_of = [&](const Px& p) { return static_cast<int>(std::floor(p.yr - row0)); };
   int rows = 0;
-  for (const Px& p : px) rows = std::max(rows, row_of(p) + 1);
+  for (Px& p : px) {
+    p.row = static_cast<int>(std::floor(p.yr - row0));
+    rows = std::max(rows, p.row + 1);
+  }
   std::vector<int> first(rows + 1, 0);
-  for (const Px& p : px) ++first[row_of(p) + 1];
+  for (const Px& p : px) ++first[p.row + 1];
   for (int j = 0; j < rows; ++j) first[j + 1] += first[j];
   std::vector<Px> sorted(px.size());
   {
     std::vector<int> at(first.begin(), first.end() - 1);
-    for (const Px& p : px) sorted[at[row_of(p)]++] = p;
+    for (const Px& p : px) sorted[at[p.row]++] = p;
   }
   // A rotated scanline meets pixel centres at most ~1.5 px apart; a wider gap is outside the
   // region (a concave contour), so the scanline splits into runs there.

@@ -15,7 +15,10 @@ struct RegionUV {
   cv::Rect box;      // image pixels covered by the Mats below
   cv::Mat1b mask;    // box.size(); 255 = a pixel with a UV value
   cv::Mat2f uv;      // box.size(); (u, v), valid where mask
-  cv::Mat1f angle;   // box.size(); +u direction, valid where mask
+  cv::Mat1f angle;   // box.size(); +u direction, valid where mask; empty when the whole
+                     // region has one direction, `direction`
+  float direction = 0;
+  float angle_at(int y, int x) const { return angle.empty() ? direction : angle(y, x); }
 };
 
 // For every pixel of an image of `size`, the index into `points` of the nearest point (points

@@ -140,6 +140,7 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
   out.mask = mask.clone();
   out.uv = cv::Mat2f(mask.size(), cv::Vec2f(0, 0));
   out.angle = cv::Mat1f(mask.size(), static_cast<float>(direction));
+  out.direction = static_cast<float>(direction);
   const float window = static_cast<float>(std::max(3.0, 0.5 * tile_h_px));
   bool missing = false;
   for (int y = 0; y < mask.rows; ++y)
@@ -197,7 +198,7 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
     cv::Mat1b rest = mask & ~out.mask;
     const RegionUV ls = uv_long_short(rest, box, direction, tile_w_px, tile_h_px);
     ls.uv.copyTo(out.uv, rest);
-    ls.angle.copyTo(out.angle, rest);
+    out.angle.setTo(static_cast<float>(direction), rest);
     out.mask = mask.clone();
   }
   return out;
