@@ -181,14 +181,41 @@ bool is_closed(const SkeletonBranch& b) {
          std::abs(b.pixels.front().y - b.pixels.back().y) <= 1.5f;
 }
 
-std::vector<SkeletonBranch> skeleton_branches(const cv::Mat1b& mask_in, double min_branch_px) {
+namespace {
+
+// OpenCV's thinning costs every pixel of the image on every pass, stroke or not. Thinning is
+// local (a pass looks at 3x3 neighbours; a stroke of half width r is thinned in about r + 1
+// iterations, two passes each), so a sparse image is thinned tile by tile with a margin the
+// passes cannot see across, and only tiles holding stroke pixels are thinned at all.
+cv::Mat1b thin(const cv::Mat1b& mask, double max_half_width) {
+  cv::Mat1b skel;
+  if (mask.total() <= 96 * 96) {
+    cv::ximgproc::thinning(mask, skel, cv::ximgproc::THINNING_ZHANGSUEN);
+    return skel;
+  }
+  skel = cv::Mat1b(mask.size(), uchar(0));
+  const int tile = 48, margin = 2 * static_cast<int>(std::ceil(max_half_width)) + 8;
+  cv::Mat1i sum;
+  cv::integral(mask, sum, CV_32S);
+  const cv::Rect all(0, 0, mask.cols, mask.rows);
+  cv::Mat1b part;
+  for (int y = 0; y < mask.rows; y += tile)
+    for (int x = 0; x < mask.cols; x += tile) {
+      const cv::Rect in = cv::Rect(x, y, tile, tile) & all;
+      if (sum(in.br()) - sum(in.y, in.br().x) - sum(in.br().y, in.x) + sum(in.tl()) == 0) continue;
+      const cv::Rect out = cv::Rect(x - margin, y - margin, tile + 2 * margin, tile + 2 * margin) & all;
+      cv::ximgproc::thinning(mask(out), part, cv::ximgproc::THINNING_ZHANGSUEN);
+      part(in - out.tl()).copyTo(skel(in));
+    }
+  return skel;
+}
+
+std::vector<SkeletonBranch> branches_of(const cv::Mat1b& mask_in, double min_branch_px, double max_half_width) {
   std::vector<SkeletonBranch> out;
-  if (mask_in.empty()) return out;
   // A 2-pixel zero border: neighbour lookups never leave the image.
   cv::Mat1b mask;
   cv::copyMakeBorder(mask_in > 0, mask, 2, 2, 2, 2, cv::BORDER_CONSTANT, 0);
-  cv::Mat1b skel;
-  cv::ximgproc::thinning(mask, skel, cv::ximgproc::THINNING_ZHANGSUEN);
+  cv::Mat1b skel = thin(mask, max_half_width);
   remove_staircase_corners(skel);
   cv::Mat1f dist;
   cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
@@ -328,6 +355,59 @@ std::vector<SkeletonBranch> skeleton_branches(const cv::Mat1b& mask_in, double m
   }
   for (int i = 1; i < n_segs; ++i)  // rings and closed chains
     if (!segs[i].dropped && !used[i]) emit(i, 0);
+  return out;
+}
+
+}  // namespace
+
+std::vector<SkeletonBranch> skeleton_branches(const cv::Mat1b& mask_in, double min_branch_px) {
+  if (mask_in.empty()) return {};
+  cv::Mat1f dist;
+  cv::Mat1b padded;
+  cv::copyMakeBorder(mask_in > 0, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  cv::distanceTransform(padded, dist, cv::DIST_L2, 3);
+  double max_half_width = 0;
+  cv::minMaxLoc(dist, nullptr, &max_half_width);
+  // Thinning time grows with the stroke's half width (one iteration per pixel peeled): a wide
+  // stroke (over 24 px) is thinned at 1/f scale (half width 6 to 8 px there), a cell set
+  // when most of its pixels are (a cell set by any pixel makes staircase diagonals two cells
+  // thick, which Zhang-Suen erases entirely); parts narrower than about f / 2 pixels vanish at
+  // that scale, and the branches are placed to about f / 2 pixels.
+  const int f = max_half_width > 12 ? static_cast<int>(std::ceil(max_half_width / 8)) : 1;
+  if (f == 1) return branches_of(mask_in, min_branch_px, max_half_width);
+  const int w = (mask_in.cols + f - 1) / f, h = (mask_in.rows + f - 1) / f;
+  cv::Mat1b big(h * f, w * f, uchar(0)), small;
+  cv::Mat1b(mask_in > 0).copyTo(big(cv::Rect(0, 0, mask_in.cols, mask_in.rows)));
+  cv::resize(big, small, {w, h}, 0, 0, cv::INTER_AREA);
+  small = small >= 128;
+  std::vector<SkeletonBranch> coarse = branches_of(small, min_branch_px / f, max_half_width / f + 1);
+  // Back to full resolution: cell centres joined by 8-connected pixel lines.
+  std::vector<SkeletonBranch> out;
+  out.reserve(coarse.size());
+  const float half = (f - 1) / 2.0f;
+  const cv::Rect bounds(0, 0, mask_in.cols, mask_in.rows);
+  for (const SkeletonBranch& c : coarse) {
+    const bool closed = is_closed(c);
+    std::vector<cv::Point> pts;
+    for (const cv::Point2f& p : c.pixels) {
+      cv::Point q(cvRound(p.x * f + half), cvRound(p.y * f + half));
+      q.x = std::min(q.x, mask_in.cols - 1), q.y = std::min(q.y, mask_in.rows - 1);
+      pts.push_back(q);
+    }
+    if (closed) pts.push_back(pts.front());
+    SkeletonBranch b;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      if (i == 0) {
+        b.pixels.emplace_back(pts[0]);
+        continue;
+      }
+      cv::LineIterator it(pts[i - 1], pts[i], 8);
+      for (int k = 0; k < it.count; ++k, ++it)
+        if (k > 0 && bounds.contains(it.pos())) b.pixels.emplace_back(it.pos());
+    }
+    if (closed && b.pixels.size() > 1) b.pixels.pop_back();  // the start again
+    out.push_back(std::move(b));
+  }
   return out;
 }
 
