@@ -1,8 +1,11 @@
 // Recolouring a reference tile for one region (paper 5.4, after Chang et al. 2015): the tile's
 // mean CIELab colour (over its thread pixels) is mapped to the region's palette colour while the
-// shading survives: L by Chang et al.'s monotone piecewise-linear transfer through
-// (0,0), (mean L, target L), (100,100), then a small shift so the mean lands exactly; a and b
-// are shifted by the difference of the means. The target L is capped at max_L, because even
+// shading survives. L: a monotone transfer as in Chang et al., but linear around the mean (the
+// deviations from the mean kept, scaled down only as far as [0, 100] needs, at least to a
+// quarter), then a small shift so the mean lands exactly. Chang et al.'s piecewise-linear
+// transfer through (0,0), (mean, target), (100,100) would, with one palette entry and a black
+// target, stretch the highlights far above black (mean L 11 for black thread). a and b are
+// shifted by the difference of the means. The target L is capped at max_L, because even
 // white thread looks grey (the paper's overexposure fix).
 // Pure; thread-safe.
 #pragma once
