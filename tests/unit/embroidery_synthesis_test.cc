@@ -235,6 +235,51 @@ TEST(EmbroiderySynthesis, SatinStitchesCrossACurvedStripe) {
   EXPECT_GT(across, 0.85 * tested);
 }
 
+TEST(EmbroiderySynthesis, EdgeTilesRunAlongTheStrokeAndSpanItsWidth) {
+  cv::Mat1b mask(160, 260, uchar(0));
+  const double a = 20 * kPi / 180;
+  const cv::Point2d d(std::cos(a), std::sin(a));
+  cv::line(mask, cv::Point(20, 30), cv::Point(20 + static_cast<int>(220 * d.x), 30 + static_cast<int>(220 * d.y)), 255, 5);
+  const RegionUV uv = uv_edge(mask, cv::Rect(0, 0, mask.cols, mask.rows), 8, 4, 0.0);
+  int tested = 0, along = 0;
+  float vmin = 1, vmax = 0;
+  for (int y = 1; y + 1 < mask.rows; ++y)
+    for (int x = 1; x + 1 < mask.cols; ++x) {
+      if (!mask(y, x)) continue;
+      vmin = std::min(vmin, uv.uv(y, x)[1]);
+      vmax = std::max(vmax, uv.uv(y, x)[1]);
+      if (!mask(y, x + 1) || !mask(y, x - 1) || !mask(y + 1, x) || !mask(y - 1, x)) continue;
+      // u repeats every tile: differences are taken modulo 1.
+      auto du = [](float p, float q) { const double e = p - q; return e - std::round(e); };
+      const double gx = du(uv.uv(y, x + 1)[0], uv.uv(y, x - 1)[0]), gy = du(uv.uv(y + 1, x)[0], uv.uv(y - 1, x)[0]);
+      const double g = std::hypot(gx, gy);
+      if (g < 1e-4) continue;
+      ++tested;
+      if (std::abs(gx * d.x + gy * d.y) / g > std::cos(30 * kPi / 180)) ++along;
+    }
+  ASSERT_GT(tested, 300);
+  EXPECT_GT(along, 0.85 * tested);
+  EXPECT_LT(vmin, 0.2);   // the tile's edges reach the stroke's sides ...
+  EXPECT_GT(vmax, 0.8);
+}
+
+TEST(EmbroiderySynthesis, LongShortTakesInTheUnsewnHoleItSurrounds) {
+  cv::Mat1i labels(200, 200, -1);
+  cv::circle(labels, cv::Point(100, 100), 80, 0, cv::FILLED);
+  cv::circle(labels, cv::Point(100, 100), 30, -1, cv::FILLED);   // a hole nobody sews
+  cv::circle(labels, cv::Point(100, 100), 10, 1, cv::FILLED);    // ... around a satin dot
+  const Segmentation seg = make_seg(labels, {{40, 160, 40}, {200, 40, 40}}, {Style::long_short, Style::satin});
+  const Synthesis out = synthesize(seg, region_directions(seg), procedural_textures(), SynthesisParams{});
+  cv::Mat1b hole(labels.size(), uchar(0));
+  cv::circle(hole, cv::Point(100, 100), 27, 255, cv::FILLED);
+  cv::circle(hole, cv::Point(100, 100), 13, 0, cv::FILLED);
+  EXPECT_EQ(cv::countNonZero((out.style == static_cast<int>(Style::long_short) + 1) & hole), cv::countNonZero(hole));
+  EXPECT_LT(delta_e(mean_lab(out.preview, hole), seg.palette.lab[0]), 12.0);
+  // Outside the design the fabric stays.
+  EXPECT_EQ(out.style(2, 2), 0);
+  EXPECT_EQ(out.preview(2, 2), SynthesisParams{}.fabric_bgr);
+}
+
 TEST(EmbroiderySynthesis, EdgeOnTopOfLongShortStaysVisible) {
   cv::Mat1i labels(200, 240, 0);
   cv::line(labels, cv::Point(20, 30), cv::Point(220, 170), 1, 3);
