@@ -81,8 +81,9 @@ Texel long_short_texel(double x, double y, int w, int h) {
   const double sink = std::min({1.0, to_seam / dive, to_end / dive + 0.3});
   s.brightness = (0.16 + 0.66 * hgt * (0.92 + 0.08 * twist) + 0.22 * sheen(t, 0.35)) * (0.8 + 0.2 * sink);
   s.alpha = to_seam < gap ? 0.0 : (to_seam < gap + 1.0 ? to_seam - gap : 1.0);
+  // Rising out of the hole behind a seam, sinking into the next one: the normal leans back.
   const double slope = (1.0 - std::min(1.0, to_seam / dive)) * 0.8;
-  s.nu = (d < period - d ? slope : -slope) + 0.1 * std::sin(2 * kPi * (x / (1.0 * kPxPerMm) + 0.35 * t));
+  s.nu = (d < period - d ? -slope : slope) + 0.1 * std::sin(2 * kPi * (x / (1.0 * kPxPerMm) + 0.35 * t));
   s.nv = t;
   s.nz = std::max(0.15, hgt);
   return s;
@@ -105,7 +106,7 @@ Texel satin_texel(double x, double y, int w, int h) {
   s.brightness = (0.25 + 0.40 * hgt * (0.55 + 0.45 * dome) + 0.30 * crest * (0.6 + 0.4 * hgt) * slow) *
                  (0.6 + 0.4 * sink);
   const double slope = (1.0 - std::min(1.0, to_end / 0.06)) * 0.7;
-  s.nu = (u < 0.5 ? slope : -slope) - 0.5 * std::cos(kPi * u);
+  s.nu = (u < 0.5 ? -slope : slope) - 0.5 * std::cos(kPi * u);
   s.nv = t;
   s.nz = std::max(0.15, hgt);
   return s;

@@ -323,6 +323,25 @@ TEST(EmbroiderySynthesis, NormalMapIsFlatOnFabricAndVariesOnThread) {
   EXPECT_EQ(value_fabric, 0);
 }
 
+TEST(EmbroiderySynthesis, SatinNormalsLeanOutwardsFromTheColumnsCrest) {
+  // A raised satin column lit from anywhere must shade like a dome: its normals lean left on
+  // its left half and right on its right half, whichever way the column was traced.
+  cv::Mat1i labels(200, 120, -1);
+  cv::rectangle(labels, cv::Rect(45, 20, 30, 160), 0, cv::FILLED);
+  const Segmentation seg = make_seg(labels, {{90, 90, 200}}, {Style::satin});
+  const Synthesis out = synthesize(seg, region_directions(seg), procedural_textures(), SynthesisParams{});
+  double left = 0, right = 0;   // mean x component (R - 128; stored B,G,R)
+  int nl = 0, nr = 0;
+  for (int y = 40; y < 160; ++y)
+    for (int x = 46; x < 74; ++x) {
+      const double nx = out.normal(y, x)[2] / 127.5 - 1;
+      if (x < 58) left += nx, ++nl;
+      if (x > 61) right += nx, ++nr;
+    }
+  EXPECT_LT(left / nl, -0.1);
+  EXPECT_GT(right / nr, 0.1);
+}
+
 TEST(EmbroiderySynthesis, LongShortTakesItsNeighboursDirection) {
   // A long-short band whose long axis runs at 120 deg; edge lines at 30 deg close its ends.
   cv::Mat1i labels(400, 400, -1);
