@@ -26,6 +26,8 @@ struct Pair {
   cv::Point2f c0, c1;   // c0 on the +normal side (u = 0), c1 on the other (u = 1)
   float s_mid;          // where along the curve it sits
   float v;              // unwrapped: piece index + relative contour order
+  cv::Point2f e;        // c1 - c0
+  float len = 0;        // |e|
 };
 
 }  // namespace
@@ -126,7 +128,8 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
           const double f = (i + 0.5) / m;
           const ContourPx& a = A[ia + std::min(na - 1, static_cast<size_t>(f * na))];
           const ContourPx& c = B[ib + std::min(nbb - 1, static_cast<size_t>(f * nbb))];
-          pairs[b].push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(piece + f)});
+          const cv::Point2f e = c.p - a.p;
+          pairs[b].push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(piece + f), e, std::sqrt(e.dot(e))});
         }
       ia = ja;
       ib = jb;
@@ -159,19 +162,20 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
       const cv::Point2f p(static_cast<float>(x), static_cast<float>(y));
       auto lo = std::lower_bound(P.begin(), P.end(), s - window, [](const Pair& a, float v) { return a.s_mid < v; });
       double sw = 0, su = 0, sv = 0;
-      auto pair_uv = [&](const Pair& q, double* u, double* dist, double* len) {
-        const cv::Point2f e = q.c1 - q.c0;
-        *len = std::sqrt(e.dot(e));
+      auto pair_uv = [&](const Pair& q, double* u, double* dist) {
         const cv::Point2f r = p - q.c0;
-        *u = *len > 1e-6 ? std::clamp(r.dot(e) / (*len * *len), 0.0, 1.0) : 0.5;
-        *dist = *len > 1e-6 ? std::abs(e.x * r.y - e.y * r.x) / *len : std::sqrt(r.dot(r));
+        *u = q.len > 1e-6f ? std::clamp(r.dot(q.e) / (q.len * q.len), 0.f, 1.f) : 0.5;
+        *dist = q.len > 1e-6f ? std::abs(q.e.x * r.y - q.e.y * r.x) / q.len : std::sqrt(r.dot(r));
       };
       for (auto it = lo; it != P.end() && it->s_mid <= s + window; ++it) {
-        double u, dist, len;
-        pair_uv(*it, &u, &dist, &len);
-        if (len < 1e-6) continue;
-        const cv::Point2f r0 = p - it->c0, r1 = p - it->c1;
-        const double w = std::exp(-(std::sqrt(r0.dot(r0)) + std::sqrt(r1.dot(r1))) * dist / len);   // eq. 7
+        if (it->len < 1e-6f) continue;
+        const cv::Point2f r0 = p - it->c0;
+        const float dist = std::abs(it->e.x * r0.y - it->e.y * r0.x) / it->len;
+        // (|p-c0| + |p-c1|) >= |c0-c1|, so eq. 7 is below exp(-dist): far lines do not count.
+        if (dist > 8.f) continue;
+        const cv::Point2f r1 = p - it->c1;
+        const double w = std::exp(-(std::sqrt(r0.dot(r0)) + std::sqrt(r1.dot(r1))) * dist / it->len);   // eq. 7
+        const double u = std::clamp(r0.dot(it->e) / (it->len * it->len), 0.f, 1.f);
         sw += w;
         su += w * u;
         sv += w * it->v;
@@ -184,8 +188,8 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
         // No pair near the foot point (a piece with one side only): the nearest pair.
         auto it = lo == P.end() ? P.end() - 1 : lo;
         if (it != P.begin() && std::abs((it - 1)->s_mid - s) < std::abs(it->s_mid - s)) --it;
-        double dist, len;
-        pair_uv(*it, &u, &dist, &len);
+        double dist;
+        pair_uv(*it, &u, &dist);
         v = it->v;
       }
       out.uv(y, x) = cv::Vec2f(static_cast<float>(u), static_cast<float>(v - std::floor(v)));
