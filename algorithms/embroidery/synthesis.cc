@@ -132,8 +132,9 @@ Layer prepare_region(const Segmentation& seg, const Region& r, double direction,
 
 }  // namespace
 
-Synthesis synthesize(const Segmentation& seg, const std::vector<double>& directions, const TextureSet& textures,
-                     const SynthesisParams& p) {
+namespace {
+Synthesis synthesize_impl(const Segmentation& seg, const std::vector<double>& directions, const TextureSet& textures,
+                          const SynthesisParams& p) {
   if (!(p.px_per_mm > 0) || !std::isfinite(p.px_per_mm))
     throw std::invalid_argument("synthesis: px_per_mm must be positive");
   if (!(p.max_L > 0 && p.max_L <= 100)) throw std::invalid_argument("synthesis: max_L must be in (0, 100]");
@@ -235,6 +236,17 @@ Synthesis synthesize(const Segmentation& seg, const std::vector<double>& directi
     }
   }, 16);
   return out;
+}
+}  // namespace
+
+Synthesis synthesize(const Segmentation& seg, const std::vector<double>& directions, const TextureSet& textures,
+                     const SynthesisParams& p) {
+  try {
+    return synthesize_impl(seg, directions, textures, p);
+  } catch (const cv::Exception& e) {
+    // The algorithms boundary: callers see standard exceptions only.
+    throw std::runtime_error(std::string("synthesis: OpenCV failed: ") + e.what());
+  }
 }
 
 }  // namespace atelier::embroidery

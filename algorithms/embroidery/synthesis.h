@@ -34,7 +34,7 @@ struct Synthesis {
 
 // directions: region_directions(seg) (radians, indexed like seg.regions). Throws
 // std::invalid_argument on a malformed input (sizes disagree, a bad texture, px_per_mm <= 0,
-// max_L outside (0, 100], dilate_px < 0).
+// max_L outside (0, 100], dilate_px < 0); std::runtime_error when OpenCV fails inside.
 Synthesis synthesize(const Segmentation&, const std::vector<double>& directions, const TextureSet&,
                      const SynthesisParams&);
 
