@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "daemon/convert/cut_job.h"
+#include "daemon/convert/embroidery_job.h"
+#include "daemon/convert/embroidery_params.h"
 #include "daemon/convert/knit_job.h"
 #include "daemon/convert/knit_params.h"
 #include "daemon/convert/param_table.h"
@@ -21,7 +23,7 @@ std::string kind_list() {
 }  // namespace
 
 const std::vector<std::string>& known_kinds() {
-  static const std::vector<std::string> kinds{"knit", "cut", "parquetry"};
+  static const std::vector<std::string> kinds{"knit", "cut", "parquetry", "embroidery"};
   return kinds;
 }
 
@@ -44,6 +46,10 @@ void validate_kind_params(const std::string& kind, const toml::table& params,
     read_parquetry_params(params, source);
     return;
   }
+  if (kind == "embroidery") {
+    read_embroidery_params(params, source);
+    return;
+  }
   throw ParamError(source + ": unknown kind '" + kind + "' (known: " + kind_list() + ")");
 }
 
@@ -60,6 +66,7 @@ ConvertResult convert(const ConvertRequest& request) {
   try {
     if (request.kind == "cut") return convert_cut(request);
     if (request.kind == "parquetry") return convert_parquetry(request);
+    if (request.kind == "embroidery") return convert_embroidery(request);
     return convert_knit(request);
   } catch (const cv::Exception& e) {
     throw ConvertError(request.input.filename().string() + ": image processing failed: " +

@@ -1,0 +1,55 @@
+// The whole embroidery design of issue 6: an image -> regions with stitch styles (paper
+// section 4, segment.h), the synthesized preview and normal map (section 5, synthesis.h) and
+// the machine's stitches (stitch_planner.h), at the design's physical size.
+//
+// Size (paper 6): the design is width_mm wide; the image is worked on at px_per_mm =
+// its width in pixels / width_mm, clamped to [min_px_per_mm, max_px_per_mm] by resizing it
+// first (a small logo is enlarged so satin columns have pixels to measure; a huge photo is
+// reduced, since a needle cannot place detail finer than a thread anyway). The label widths eW
+// and sW, the region dilation and the minimum region area are given in mm and converted here.
+//
+// Pure: no I/O, no clocks. Thread-safe (separate calls share nothing); uses OpenCV's threads.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "algorithms/embroidery/colors.h"
+#include "algorithms/embroidery/design.h"
+#include "algorithms/embroidery/segment.h"
+#include "algorithms/embroidery/stitch_plan.h"
+#include "algorithms/embroidery/stitch_planner.h"
+#include "algorithms/embroidery/synthesis.h"
+#include "algorithms/embroidery/textures.h"
+
+namespace atelier::embroidery {
+
+struct DesignParams {
+  double width_mm = 100;             // the design's width; its height follows the image
+  double min_px_per_mm = 4, max_px_per_mm = 16;   // working resolution bounds
+  double min_region_mm2 = 1.0;       // smaller single-colour specks join a neighbour
+  double eW_mm = 1.0, sW_mm = 6.0;   // the paper's eW and sW as physical widths
+  double overlap_mm = 0.25;          // neighbouring regions are sewn this far into each other
+  ColorParams colors;                // min_area_px is set from min_region_mm2
+  LabelParams labels;                // eW_px and sW_px are set from the mm widths
+  SynthesisParams synthesis;         // px_per_mm and dilate_px are set here
+  StitchParams stitches;             // px_per_mm is set here
+};
+
+struct Design {
+  double px_per_mm = 0;              // of the working image
+  cv::Size work_size;                // the working image's size in pixels
+  double width_mm = 0, height_mm = 0;
+  Segmentation segmentation;
+  std::vector<double> directions;    // per region, radians (directions.h)
+  Synthesis synthesis;               // preview, normal map, UV, top style per pixel
+  StitchPlan plan;                   // mm, origin at the design's centre
+};
+
+// Throws std::invalid_argument (empty image, bad parameters) and HoopTooSmall.
+Design make_design(const cv::Mat& image, const TextureSet& textures, const DesignParams& params);
+
+// The working resolution make_design() uses for an image `cols` pixels wide.
+double working_px_per_mm(int cols, const DesignParams& params);
+
+}  // namespace atelier::embroidery

@@ -1,0 +1,138 @@
+// convert() for kind embroidery: an image becomes design.dst, design.exp, preview.png,
+// normal.png, regions.png and report.json; bad parameters, a design larger than the hoop and
+// bad user textures are clear errors.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "daemon/convert/convert.h"
+#include "daemon/convert/param_table.h"
+#include "tests/unit/stitch_file_readers.h"
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+class ConvertEmbroideryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    out_ = fs::temp_directory_path() /
+           ("atelier-convert-emb-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(out_);
+  }
+  void TearDown() override { fs::remove_all(out_); }
+  ConvertResult run(const fs::path& input, const std::string& toml_text = "") {
+    ConvertRequest req;
+    req.kind = "embroidery";
+    req.input = input;
+    req.params = toml::parse(toml_text, std::string_view{"test.toml"});
+    req.params_source = "test.toml";
+    req.output_dir = out_;
+    return convert(req);
+  }
+  std::string error_of(const fs::path& input, const std::string& toml_text) {
+    try {
+      run(input, toml_text);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  }
+  fs::path out_;
+};
+
+fs::path data(const std::string& name) { return fs::path(ATELIER_TEST_DATA) / name; }
+
+TEST_F(ConvertEmbroideryTest, AnImageBecomesStitchFilesPreviewNormalMapLabelsAndAReport) {
+  const ConvertResult r = run(data("HappyFish.jpg"), "width_mm = 70\n");
+  for (const char* f : {"design.dst", "design.exp", "preview.png", "normal.png", "regions.png", "report.json"})
+    EXPECT_TRUE(fs::exists(out_ / f)) << f;
+  const nlohmann::json report = nlohmann::json::parse(slurp(out_ / "report.json"));
+  EXPECT_EQ(report, r.report);
+  EXPECT_NEAR(report["size_mm"][0].get<double>(), 70.0, 1e-9);
+  // The report's counts are the file's: stitches and colour changes decoded from the DST.
+  const embroidery::test::DstFile dst = embroidery::test::read_dst(slurp(out_ / "design.dst"));
+  ASSERT_TRUE(dst.errors.empty()) << dst.errors.front();
+  int colors = 0;
+  for (const auto& rec : dst.records) colors += rec.type == embroidery::test::Ev::color;
+  EXPECT_EQ(colors, report["color_changes"].get<int>());
+  EXPECT_EQ(report["threads"].size(), static_cast<size_t>(colors + 1));
+  EXPECT_EQ(dst.header.at("LA").substr(0, 9), "HappyFish");
+  int regions = 0;
+  for (const auto& [style, e] : report["regions"]["by_style"].items()) regions += e["count"].get<int>();
+  EXPECT_EQ(regions, report["regions"]["total"].get<int>());
+  EXPECT_LE(report["extent_mm"]["width"].get<double>(), 71.0);
+  // Every thread is one of the palette's colours.
+  for (const auto& t : report["threads"])
+    EXPECT_NE(std::find(report["palette"].begin(), report["palette"].end(), t["rgb"]), report["palette"].end())
+        << t.dump();
+}
+
+TEST_F(ConvertEmbroideryTest, TransparentPixelsAreNotSewnAndShowAsFabric) {
+  run(data("opencv-logo.png"), "width_mm = 60\n");
+  const cv::Mat regions = cv::imread((out_ / "regions.png").string());
+  const cv::Mat logo = cv::imread(data("opencv-logo.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(logo.channels(), 4);
+  cv::Mat alpha;
+  cv::extractChannel(logo, alpha, 3);
+  cv::resize(alpha, alpha, regions.size(), 0, 0, cv::INTER_NEAREST);
+  int transparent = 0, white = 0;
+  for (int y = 0; y < regions.rows; ++y)
+    for (int x = 0; x < regions.cols; ++x) {
+      if (alpha.at<uchar>(y, x) != 0) continue;
+      ++transparent;
+      white += regions.at<cv::Vec3b>(y, x) == cv::Vec3b(255, 255, 255);
+    }
+  ASSERT_GT(transparent, 1000);
+  EXPECT_GT(white, transparent * 0.97) << "transparent pixels must not be sewn";
+}
+
+TEST_F(ConvertEmbroideryTest, ADesignLargerThanTheHoopFailsWithTheSizes) {
+  const std::string e = error_of(data("pic1.png"), "width_mm = 150\nhoop_width_mm = 100\nhoop_height_mm = 100\n");
+  EXPECT_THAT(e, HasSubstr("pic1.png"));
+  EXPECT_THAT(e, HasSubstr("hoop"));
+  EXPECT_FALSE(fs::exists(out_ / "design.dst")) << "nothing is written for a design that cannot be sewn";
+}
+
+TEST_F(ConvertEmbroideryTest, BadParametersNameTheKey) {
+  EXPECT_THAT(error_of(data("pic1.png"), "colours = 4\n"), HasSubstr("colours"));
+  EXPECT_THAT(error_of(data("pic1.png"), "colors = \"many\"\n"), HasSubstr("colors"));
+  EXPECT_THAT(error_of(data("pic1.png"), "eW = 5.0\nsW = 4.0\n"), HasSubstr("sW"));
+  EXPECT_THAT(error_of(data("pic1.png"), "median = 4\n"), HasSubstr("median"));
+  EXPECT_THAT(error_of(data("pic1.png"), "satin_max_mm = 30\n"), HasSubstr("satin_max_mm"));
+}
+
+TEST_F(ConvertEmbroideryTest, UserTexturesReplaceTheProceduralOnesAndBadOnesAreNamed) {
+  const fs::path tex = out_.string() + "-tex";
+  fs::remove_all(tex);
+  fs::create_directories(tex);
+  // A user's satin texture: grey thread rows with transparent seams, 3 x 1 mm at 254 dpi.
+  cv::Mat4b satin(10, 30, cv::Vec4b(150, 150, 150, 255));
+  for (int x = 0; x < satin.cols; x += 5) satin.col(x).setTo(cv::Vec4b(0, 0, 0, 0));
+  cv::imwrite((tex / "satin.png").string(), satin);
+  const ConvertResult r = run(data("pic1.png"), "width_mm = 60\ntextures = \"" + tex.string() + "\"\ntexture_dpi = 254\n");
+  EXPECT_EQ(r.report["textures"]["satin"], (tex / "satin.png").string());
+  EXPECT_EQ(r.report["textures"]["long_short"], "procedural");
+  cv::imwrite((tex / "edge.normal.png").string(), cv::Mat3b(3, 3, cv::Vec3b(255, 128, 128)));
+  cv::imwrite((tex / "edge.png").string(), satin);
+  EXPECT_THAT(error_of(data("pic1.png"), "textures = \"" + tex.string() + "\"\n"), HasSubstr("edge.normal.png"));
+  EXPECT_THAT(error_of(data("pic1.png"), "textures = \"" + tex.string() + "/nope\"\n"), HasSubstr("nope"));
+  fs::remove_all(tex);
+}
+
+}  // namespace
+}  // namespace atelier
