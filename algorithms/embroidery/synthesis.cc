@@ -130,9 +130,6 @@ Layer prepare_region(const Segmentation& seg, const Region& r, double direction,
   return L;
 }
 
-}  // namespace
-
-namespace {
 Synthesis synthesize_impl(const Segmentation& seg, const std::vector<double>& directions, const TextureSet& textures,
                           const SynthesisParams& p) {
   if (!(p.px_per_mm > 0) || !std::isfinite(p.px_per_mm))
