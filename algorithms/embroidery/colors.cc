@@ -1,0 +1,361 @@
+#include "algorithms/embroidery/colors.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+#include <stdexcept>
+#include <string>
+
+namespace atelier::embroidery {
+namespace {
+
+constexpr int kMaxSamples = 8000;
+constexpr uint64_t kSeed = 0x5eed'e3b0'1dULL;
+
+void check(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("colour extraction: " + what);
+}
+
+float dist2(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const cv::Vec3f d = a - b;
+  return d.dot(d);
+}
+
+// cv::kmeans draws from cv::theRNG(); seed it for this call only and put the caller's state
+// back, so the palette is reproducible and nobody else's random stream changes.
+double kmeans_seeded(const cv::Mat& samples, int k, cv::Mat& labels, cv::Mat& centers) {
+  cv::RNG& rng = cv::theRNG();
+  const uint64_t saved = rng.state;
+  rng.state = kSeed;
+  const double compactness =
+      cv::kmeans(samples, k, labels, cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 20, 0.05),
+                 1, cv::KMEANS_PP_CENTERS, centers);
+  rng.state = saved;
+  return compactness;
+}
+
+double mean_delta_e(const cv::Mat& samples, const cv::Mat& labels, const cv::Mat& centers) {
+  double sum = 0;
+  for (int i = 0; i < samples.rows; ++i) {
+    const cv::Vec3f s = samples.at<cv::Vec3f>(i);
+    const cv::Vec3f c = centers.at<cv::Vec3f>(labels.at<int>(i));
+    sum += std::sqrt(dist2(s, c));
+  }
+  return samples.rows ? sum / samples.rows : 0.0;
+}
+
+}  // namespace
+
+void validate_color_params(const ColorParams& p) {
+  check(p.median_ksize >= 1 && p.median_ksize % 2 == 1 && p.median_ksize <= 255,
+        "median_ksize must be odd and in [1, 255]");
+  check(p.max_colors >= 1 && p.max_colors <= 64, "max_colors must be in [1, 64]");
+  check(p.colors >= 0 && p.colors <= p.max_colors, "colors must be 0 (automatic) or in [1, max_colors]");
+  check(std::isfinite(p.auto_delta_e) && p.auto_delta_e > 0, "auto_delta_e must be > 0");
+  check(p.min_area_px >= 1, "min_area_px must be >= 1");
+}
+
+ColorExtraction extract_colors(const cv::Mat& image, const ColorParams& p) {
+  check(!image.empty(), "empty image");
+  check(image.type() == CV_8UC3 || image.type() == CV_8UC4, "image must be CV_8UC3 or CV_8UC4");
+  validate_color_params(p);
+  const bool has_alpha = image.channels() == 4;
+  cv::Mat bgr, alpha;
+  if (has_alpha) {
+    cv::cvtColor(image, bgr, cv::COLOR_BGRA2BGR);
+    cv::extractChannel(image, alpha, 3);
+  } else {
+    bgr = image;
+  }
+  cv::Mat filtered;
+  if (p.median_ksize > 1) cv::medianBlur(bgr, filtered, p.median_ksize);
+  else filtered = bgr;
+  cv::Mat f32, lab;
+  filtered.convertTo(f32, CV_32F, 1.0 / 255.0);
+  cv::cvtColor(f32, lab, cv::COLOR_BGR2Lab);  // L in [0, 100]
+  const cv::Mat3f lab3 = lab;
+
+  // Fixed-seed subsample of opaque pixels (a local RNG: no global state touched).
+  const int W = image.cols, H = image.rows;
+  auto opaque = [&](int y, int x) { return !has_alpha || alpha.at<uchar>(y, x) >= 128; };
+  const long total = static_cast<long>(W) * H;
+  long opaque_count = total;
+  if (has_alpha) opaque_count = cv::countNonZero(alpha >= 128);
+  ColorExtraction out;
+  out.color_index.create(H, W);
+  if (opaque_count == 0) {
+    out.color_index.setTo(-1);
+    return out;
+  }
+  cv::Mat samples;
+  if (opaque_count <= kMaxSamples) {
+    samples.create(static_cast<int>(opaque_count), 1, CV_32FC3);
+    int n = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (opaque(y, x)) samples.at<cv::Vec3f>(n++) = lab3(y, x);
+  } else {
+    samples.create(kMaxSamples, 1, CV_32FC3);
+    cv::RNG rng(kSeed);
+    for (int n = 0; n < kMaxSamples;) {
+      const long i = static_cast<long>(rng.uniform(0.0, static_cast<double>(total)));
+      const int y = static_cast<int>(i / W), x = static_cast<int>(i % W);
+      if (opaque(y, x)) samples.at<cv::Vec3f>(n++) = lab3(y, x);
+    }
+  }
+
+  cv::Mat labels, centers;
+  if (p.colors > 0) {
+    kmeans_seeded(samples, std::min(p.colors, samples.rows), labels, centers);
+  } else {
+    // Automatic: the smallest k that holds the colours within auto_delta_e on average.
+    for (int k = 1; k <= std::min(p.max_colors, samples.rows); ++k) {
+      kmeans_seeded(samples, k, labels, centers);
+      if (mean_delta_e(samples, labels, centers) <= p.auto_delta_e) break;
+    }
+  }
+  std::vector<cv::Vec3f> centre(centers.rows);
+  for (int i = 0; i < centers.rows; ++i) centre[i] = centers.at<cv::Vec3f>(i);
+  const int K = static_cast<int>(centre.size());
+
+  // Every pixel to its nearest centre.
+  cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3f* l = lab3[y];
+      int* o = out.color_index[y];
+      const uchar* a = has_alpha ? alpha.ptr<uchar>(y) : nullptr;
+      for (int x = 0; x < W; ++x) {
+        if (a && a[x] < 128) {
+          o[x] = -1;
+          continue;
+        }
+        int best = 0;
+        float bd = dist2(l[x], centre[0]);
+        for (int k = 1; k < K; ++k) {
+          const float d = dist2(l[x], centre[k]);
+          if (d < bd) bd = d, best = k;
+        }
+        o[x] = best;
+      }
+    }
+  });
+
+  out.palette.lab = centre;
+  cv::Mat lab_row(1, K, CV_32FC3, centre.data()), bgr_row;
+  cv::cvtColor(lab_row, bgr_row, cv::COLOR_Lab2BGR);
+  for (int k = 0; k < K; ++k) {
+    const cv::Vec3f c = bgr_row.at<cv::Vec3f>(0, k) * 255.0f;
+    out.palette.bgr.emplace_back(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                                 cv::saturate_cast<uchar>(c[2]));
+  }
+
+  // The fabric showing through: a near-white cluster holding most of the image border.
+  if (p.background == Background::automatic && !has_alpha) {
+    std::vector<long> border(K, 0);
+    long border_px = 0;
+    auto count = [&](int y, int x) { ++border[out.color_index(y, x)], ++border_px; };
+    for (int x = 0; x < W; ++x) {
+      count(0, x);
+      if (H > 1) count(H - 1, x);
+    }
+    for (int y = 1; y + 1 < H; ++y) {
+      count(y, 0);
+      if (W > 1) count(y, W - 1);
+    }
+    for (int k = 0; k < K; ++k) {
+      const cv::Vec3f& c = centre[k];
+      const bool near_white = c[0] > 90 && std::hypot(c[1], c[2]) < 12;
+      if (near_white && 2 * border[k] > border_px)
+        out.color_index.setTo(-1, out.color_index == k);
+    }
+  }
+  drop_unused_colors(out.palette, out.color_index);
+  return out;
+}
+
+std::vector<int> drop_unused_colors(Palette& palette, cv::Mat1i& color_index) {
+  const int K = static_cast<int>(palette.bgr.size());
+  std::vector<char> used(K, 0);
+  for (int y = 0; y < color_index.rows; ++y) {
+    const int* c = color_index[y];
+    for (int x = 0; x < color_index.cols; ++x)
+      if (c[x] >= 0) used[c[x]] = 1;
+  }
+  std::vector<int> remap(K, -1);
+  Palette kept;
+  for (int k = 0; k < K; ++k)
+    if (used[k]) {
+      remap[k] = static_cast<int>(kept.bgr.size());
+      kept.bgr.push_back(palette.bgr[k]);
+      kept.lab.push_back(palette.lab[k]);
+    }
+  if (static_cast<int>(kept.bgr.size()) != K) {
+    for (int y = 0; y < color_index.rows; ++y) {
+      int* c = color_index[y];
+      for (int x = 0; x < color_index.cols; ++x)
+        if (c[x] >= 0) c[x] = remap[c[x]];
+    }
+  }
+  palette = std::move(kept);
+  return remap;
+}
+
+namespace {
+
+// Labels the 4-connected components of every colour (each colour on its own bounding box,
+// colours in parallel). Ids: colour by colour, raster order within a colour.
+Components label_components(const cv::Mat1i& color_index, int palette_size) {
+  const int W = color_index.cols, H = color_index.rows;
+  std::vector<cv::Rect> cbox(palette_size);
+  {
+    std::vector<int> x0(palette_size, W), y0(palette_size, H), x1(palette_size, -1), y1(palette_size, -1);
+    for (int y = 0; y < H; ++y) {
+      const int* c = color_index[y];
+      for (int x = 0; x < W; ++x) {
+        const int k = c[x];
+        if (k < 0) continue;
+        x0[k] = std::min(x0[k], x), x1[k] = std::max(x1[k], x);
+        y0[k] = std::min(y0[k], y), y1[k] = std::max(y1[k], y);
+      }
+    }
+    for (int k = 0; k < palette_size; ++k)
+      if (x1[k] >= 0) cbox[k] = cv::Rect(x0[k], y0[k], x1[k] - x0[k] + 1, y1[k] - y0[k] + 1);
+  }
+  std::vector<cv::Mat> lab(palette_size), stats(palette_size);
+  cv::parallel_for_(cv::Range(0, palette_size), [&](const cv::Range& r) {
+    for (int k = r.start; k < r.end; ++k) {
+      if (cbox[k].empty()) continue;
+      cv::Mat mask = color_index(cbox[k]) == k, centroids;
+      cv::connectedComponentsWithStats(mask, lab[k], stats[k], centroids, 4, CV_32S);
+    }
+  });
+  Components out;
+  out.id.create(H, W);
+  out.id.setTo(-1);
+  std::vector<int> offset(palette_size, 0);
+  for (int k = 0; k < palette_size; ++k) {
+    offset[k] = static_cast<int>(out.color.size());
+    if (cbox[k].empty()) continue;
+    for (int i = 1; i < stats[k].rows; ++i) {
+      const int* s = stats[k].ptr<int>(i);
+      out.color.push_back(k);
+      out.area_px.push_back(s[cv::CC_STAT_AREA]);
+      out.bbox.emplace_back(s[cv::CC_STAT_LEFT] + cbox[k].x, s[cv::CC_STAT_TOP] + cbox[k].y,
+                            s[cv::CC_STAT_WIDTH], s[cv::CC_STAT_HEIGHT]);
+    }
+  }
+  cv::parallel_for_(cv::Range(0, palette_size), [&](const cv::Range& r) {
+    for (int k = r.start; k < r.end; ++k) {
+      if (cbox[k].empty()) continue;
+      const cv::Mat1i l = lab[k];
+      for (int y = 0; y < l.rows; ++y) {
+        const int* s = l[y];
+        int* d = out.id[y + cbox[k].y] + cbox[k].x;
+        for (int x = 0; x < l.cols; ++x)
+          if (s[x] > 0) d[x] = offset[k] + s[x] - 1;
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+Components color_components(cv::Mat1i& color_index, int palette_size, int min_area_px) {
+  Components c = label_components(color_index, palette_size);
+  const int n = static_cast<int>(c.color.size());
+  std::vector<char> small(n);
+  bool any_small = false;
+  for (int i = 0; i < n; ++i) any_small |= (small[i] = c.area_px[i] < min_area_px);
+  if (!any_small) return c;
+
+  // Shared border lengths of small components with their neighbours: (small, other) pairs.
+  std::vector<std::pair<int, int>> touch;
+  const int W = color_index.cols, H = color_index.rows;
+  auto note = [&](int a, int b) {
+    if (a == b || a < 0 || b < 0) return;
+    if (small[a]) touch.emplace_back(a, b);
+    if (small[b]) touch.emplace_back(b, a);
+  };
+  for (int y = 0; y < H; ++y) {
+    const int* r = c.id[y];
+    const int* d = y + 1 < H ? c.id[y + 1] : nullptr;
+    for (int x = 0; x < W; ++x) {
+      if (x + 1 < W) note(r[x], r[x + 1]);
+      if (d) note(r[x], d[x]);
+    }
+  }
+  std::sort(touch.begin(), touch.end());
+  std::vector<std::vector<std::pair<int, int>>> nb(n);  // small component -> (neighbour, border)
+  for (size_t i = 0; i < touch.size();) {
+    size_t j = i;
+    while (j < touch.size() && touch[j] == touch[i]) ++j;
+    nb[touch[i].first].emplace_back(touch[i].second, static_cast<int>(j - i));
+    i = j;
+  }
+
+  std::vector<int> parent(n), area = c.area_px, color = c.color;
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<char> dropped(n, 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  using Item = std::pair<int, int>;  // (area, id): smallest first, ties by id
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (int i = 0; i < n; ++i)
+    if (small[i]) queue.emplace(area[i], i);
+  while (!queue.empty()) {
+    const auto [a, r] = queue.top();
+    queue.pop();
+    if (find(r) != r || dropped[r] || area[r] != a || area[r] >= min_area_px) continue;
+    // Sum the border per current neighbour root.
+    std::vector<std::pair<int, int>> sums;
+    for (const auto& [other, len] : nb[r]) {
+      const int o = find(other);
+      if (o != r && !dropped[o]) sums.emplace_back(o, len);
+    }
+    std::sort(sums.begin(), sums.end());
+    int best = -1, best_len = 0;
+    for (size_t i = 0; i < sums.size();) {
+      size_t j = i;
+      int len = 0;
+      while (j < sums.size() && sums[j].first == sums[i].first) len += sums[j++].second;
+      if (len > best_len || (len == best_len && area[sums[i].first] > area[best]))
+        best = sums[i].first, best_len = len;
+      i = j;
+    }
+    if (best < 0) {
+      dropped[r] = 1;
+      continue;
+    }
+    parent[r] = best;
+    area[best] += area[r];
+    if (small[best]) {
+      nb[best].insert(nb[best].end(), nb[r].begin(), nb[r].end());
+      if (area[best] < min_area_px) queue.emplace(area[best], best);
+    }
+    nb[r].clear();
+    nb[r].shrink_to_fit();
+  }
+  std::vector<int> final_color(n);
+  for (int i = 0; i < n; ++i) {
+    const int root = find(i);
+    final_color[i] = dropped[root] ? -1 : color[root];
+  }
+  cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const int* id = c.id[y];
+      int* ci = color_index[y];
+      for (int x = 0; x < W; ++x)
+        if (id[x] >= 0) ci[x] = final_color[id[x]];
+    }
+  });
+  // Merged pieces may join components of the same colour: label once more.
+  return label_components(color_index, palette_size);
+}
+
+}  // namespace atelier::embroidery

@@ -1,0 +1,66 @@
+// Paper section 4, first step: colour extraction. A median filter removes noise and detail,
+// the pixels are clustered in CIELab, every pixel takes its nearest cluster centre, and the
+// image falls apart into 4-connected single-colour components (tiny ones merged away).
+// Units: image pixels; colour differences are CIE76 dE in CIELab.
+// Pure functions; no shared state; safe to call from several threads. Internally parallel
+// (cv::parallel_for_). Deterministic: the same image and parameters give the same result.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "algorithms/embroidery/design.h"
+
+namespace atelier::embroidery {
+
+// Which pixels are sewn. Transparent pixels (alpha < 128) are never sewn.
+//  automatic: in an image without alpha, a near-white cluster (L > 90, chroma < 12) that takes
+//             more than half of the image's border pixels is the fabric showing through: not sewn.
+//  sew:       every opaque pixel is sewn.
+enum class Background { automatic, sew };
+
+struct ColorParams {
+  int median_ksize = 5;      // odd, >= 1 (1 = no filter)
+  int colors = 0;            // 0 = automatic; otherwise this many clusters (<= max_colors),
+                             // counting a background cluster; colours left without a pixel
+                             // are dropped from the palette
+  int max_colors = 12;       // cap for automatic and for `colors`; 1..64
+  double auto_delta_e = 12;  // automatic: the smallest k whose clusters hold the pixels within
+                             // this mean CIE76 dE of their centres (or max_colors); > 0
+  int min_area_px = 16;      // components smaller than this are merged into the neighbour they
+                             // share the longest border with; >= 1. A small component with no
+                             // sewn neighbour is not sewn (no one-stitch regions)
+  Background background = Background::automatic;
+};
+
+// Throws std::invalid_argument naming the bad parameter.
+void validate_color_params(const ColorParams& p);
+
+struct ColorExtraction {
+  Palette palette;          // only colours that some sewn pixel uses
+  cv::Mat1i color_index;    // image size; palette index, or -1 = not sewn
+};
+
+// image: CV_8UC3 BGR or CV_8UC4 BGRA, not empty (else std::invalid_argument).
+// The palette comes from a fixed-seed subsample of at most 8000 opaque pixels; every pixel
+// is then assigned to its nearest centre. Does not merge small components (see below).
+ColorExtraction extract_colors(const cv::Mat& image, const ColorParams& p);
+
+struct Components {
+  cv::Mat1i id;                // image size; component id, or -1 = not sewn
+  std::vector<int> color;      // per component: palette index
+  std::vector<int> area_px;    // per component
+  std::vector<cv::Rect> bbox;  // per component, image pixels
+};
+
+// 4-connected single-colour components of color_index (-1 = not sewn, ignored). Components
+// under min_area_px are merged, smallest first, into the neighbour with the longest shared
+// 4-connected border and take its colour; one with no sewn neighbour becomes -1. color_index
+// is updated to match. Ids are ordered by colour, then by the components' raster order.
+Components color_components(cv::Mat1i& color_index, int palette_size, int min_area_px);
+
+// Removes palette entries no pixel uses and renumbers color_index to match. Returns the map
+// old index -> new index (-1 = dropped).
+std::vector<int> drop_unused_colors(Palette& palette, cv::Mat1i& color_index);
+
+}  // namespace atelier::embroidery

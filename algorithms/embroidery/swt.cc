@@ -1,0 +1,93 @@
+#include "algorithms/embroidery/swt.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace atelier::embroidery {
+namespace {
+
+struct Grad {
+  float x = 0, y = 0, norm = 0;
+};
+
+// The 3x3 Sobel of the mask smoothed by the 3x3 binomial filter, evaluated at one pixel only:
+// a 5x5 correlation with the separable kernel [-1 -2 0 2 1]/4 x [1 4 6 4 1]/4. Evaluating it
+// only at contour pixels keeps the cost proportional to the contour, not the bounding box.
+Grad gradient(const cv::Mat1b& m, int x, int y) {
+  static constexpr float kd[5] = {-0.25f, -0.5f, 0.f, 0.5f, 0.25f};
+  static constexpr float ks[5] = {0.25f, 1.f, 1.5f, 1.f, 0.25f};
+  Grad g;
+  for (int j = -2; j <= 2; ++j) {
+    const int yy = y + j;
+    if (yy < 0 || yy >= m.rows) continue;
+    const uchar* row = m[yy];
+    for (int i = -2; i <= 2; ++i) {
+      const int xx = x + i;
+      if (xx < 0 || xx >= m.cols || !row[xx]) continue;
+      g.x += kd[i + 2] * ks[j + 2];
+      g.y += ks[i + 2] * kd[j + 2];
+    }
+  }
+  g.norm = std::hypot(g.x, g.y);
+  return g;
+}
+
+}  // namespace
+
+StrokeWidths stroke_widths(const cv::Mat1b& mask, cv::Point origin, cv::Size image) {
+  StrokeWidths out;
+  const int W = mask.cols, H = mask.rows;
+  auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H && mask(y, x) != 0; };
+  for (int y = 0; y < H; ++y) {
+    const uchar* row = mask[y];
+    for (int x = 0; x < W; ++x)
+      if (row[x] && !(inside(x - 1, y) && inside(x + 1, y) && inside(x, y - 1) && inside(x, y + 1)))
+        out.contour.emplace_back(x, y);
+  }
+  out.width.assign(out.contour.size(), 0.f);
+  const float cos_limit = static_cast<float>(std::cos(std::numbers::pi / 6));
+  auto on_image_border = [&](int x, int y) {
+    const int ix = x + origin.x, iy = y + origin.y;
+    return ix <= 0 || iy <= 0 || ix >= image.width - 1 || iy >= image.height - 1;
+  };
+  auto thin = [&](int x, int y) {
+    return (!inside(x - 1, y) && !inside(x + 1, y)) || (!inside(x, y - 1) && !inside(x, y + 1));
+  };
+  const int max_steps = 2 * (W + H) + 4;
+  for (size_t i = 0; i < out.contour.size(); ++i) {
+    const cv::Point p = out.contour[i];
+    if (on_image_border(p.x, p.y)) continue;
+    const Grad gp = gradient(mask, p.x, p.y);
+    if (gp.norm < 1e-3f) {
+      if (thin(p.x, p.y)) out.width[i] = 1.f;
+      continue;
+    }
+    const float dx = gp.x / gp.norm, dy = gp.y / gp.norm;
+    // March in half-pixel steps; q = the last pixel inside before the ray leaves.
+    cv::Point q = p;
+    for (int s = 1; s <= max_steps; ++s) {
+      const float t = 0.5f * static_cast<float>(s);
+      const cv::Point c(static_cast<int>(std::lround(p.x + t * dx)), static_cast<int>(std::lround(p.y + t * dy)));
+      if (c == q) continue;
+      if (!inside(c.x, c.y)) break;
+      q = c;
+    }
+    if (q == p) {
+      if (thin(p.x, p.y)) out.width[i] = 1.f;
+      continue;
+    }
+    if (on_image_border(q.x, q.y)) continue;
+    const Grad gq = gradient(mask, q.x, q.y);
+    if (gq.norm < 1e-3f) continue;
+    if (-(dx * gq.x + dy * gq.y) / gq.norm < cos_limit) continue;  // not roughly opposite
+    out.width[i] = static_cast<float>(std::hypot(q.x - p.x, q.y - p.y)) + 1.f;
+  }
+  for (float w : out.width) out.failures += w == 0.f;
+  return out;
+}
+
+bool swt_forces_long_short(int failures, int area_px) {
+  return failures > std::pow(static_cast<double>(area_px), 0.8);
+}
+
+}  // namespace atelier::embroidery
