@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 namespace atelier::embroidery {
@@ -129,27 +130,69 @@ std::vector<std::vector<cv::Point2f>> fill_sections(const cv::Mat1b& mask, doubl
 
 namespace {
 
-// Sews sections nearest first (either direction) with travel inside the region.
+// Sews sections nearest first (either direction) with travel inside the region. A region
+// with many holes has thousands of sections: their ends sit in a bucket grid searched ring
+// by ring outwards from the needle.
 void sew_sections(std::vector<std::vector<cv::Point2f>> sections, StitchSink& sink) {
+  std::vector<cv::Point2f> ends;  // 2 i: front of section i, 2 i + 1: its back
+  for (const auto& sec : sections) {
+    ends.push_back(sec.empty() ? cv::Point2f(0, 0) : sec.front());
+    ends.push_back(sec.empty() ? cv::Point2f(0, 0) : sec.back());
+  }
   std::vector<bool> done(sections.size(), false);
-  for (size_t n = 0; n < sections.size(); ++n) {
-    size_t best = 0;
-    bool reverse = false;
-    double best_d = 1e18;
-    for (size_t i = 0; i < sections.size(); ++i) {
-      if (done[i] || sections[i].empty()) continue;
-      if (sink.empty()) {
-        best = i;
-        best_d = 0;
-        break;
-      }
-      const double d0 = cv::norm(sections[i].front() - sink.last()), d1 = cv::norm(sections[i].back() - sink.last());
-      if (std::min(d0, d1) < best_d) best_d = std::min(d0, d1), best = i, reverse = d1 < d0;
+  size_t left = 0;
+  for (size_t i = 0; i < sections.size(); ++i) (sections[i].empty() ? done[i] = true : ++left);
+  if (left == 0) return;
+  const cv::Rect2f box = cv::boundingRect(ends);
+  const float cell = std::max(8.0f, std::sqrt(std::max(1.0f, box.area()) / static_cast<float>(left)));
+  const int gw = static_cast<int>(box.width / cell) + 1, gh = static_cast<int>(box.height / cell) + 1;
+  std::vector<std::vector<int>> grid(static_cast<size_t>(gw) * gh);
+  auto cell_of = [&](cv::Point2f p) {
+    return cv::Point(std::clamp(static_cast<int>((p.x - box.x) / cell), 0, gw - 1),
+                     std::clamp(static_cast<int>((p.y - box.y) / cell), 0, gh - 1));
+  };
+  for (size_t e = 0; e < ends.size(); ++e)
+    if (!done[e / 2]) {
+      const cv::Point c = cell_of(ends[e]);
+      grid[static_cast<size_t>(c.y) * gw + c.x].push_back(static_cast<int>(e));
     }
-    if (best_d >= 1e18) break;
-    done[best] = true;
-    std::vector<cv::Point2f>& sec = sections[best];
-    if (reverse) std::reverse(sec.begin(), sec.end());
+  for (; left > 0; --left) {
+    int best = -1;
+    if (sink.empty()) {
+      for (size_t i = 0; i < sections.size() && best < 0; ++i)
+        if (!done[i]) best = static_cast<int>(2 * i);
+    } else {
+      const cv::Point2f here = sink.last();
+      const cv::Point c = cell_of(here);
+      float best_d = std::numeric_limits<float>::max();
+      for (int r = 0; r <= std::max(gw, gh); ++r) {
+        const float reach = (r - 1) * cell;  // every end in ring r is at least this far
+        if (best >= 0 && reach > 0 && best_d <= reach * reach) break;
+        for (int y = c.y - r; y <= c.y + r; ++y) {
+          if (y < 0 || y >= gh) continue;
+          const bool edge_row = y == c.y - r || y == c.y + r;
+          for (int x = c.x - r; x <= c.x + r; x += (edge_row || r == 0) ? 1 : 2 * r) {
+            if (x < 0 || x >= gw) continue;
+            std::vector<int>& bucket = grid[static_cast<size_t>(y) * gw + x];
+            for (size_t k = 0; k < bucket.size();) {
+              const int e = bucket[k];
+              if (done[e / 2]) {  // drop ends of sewn sections lazily
+                bucket[k] = bucket.back();
+                bucket.pop_back();
+                continue;
+              }
+              const cv::Point2f d = ends[e] - here;
+              const float dd = d.dot(d);
+              if (dd < best_d) best_d = dd, best = e;
+              ++k;
+            }
+          }
+        }
+      }
+    }
+    std::vector<cv::Point2f>& sec = sections[best / 2];
+    done[best / 2] = true;
+    if (best % 2 == 1) std::reverse(sec.begin(), sec.end());
     sink.travel_to(sec.front());
     sink.run_along(sec);
   }

@@ -65,9 +65,20 @@ bool InsideTravel::path(cv::Point2f a, cv::Point2f b, std::vector<cv::Point2f>& 
   cv::Point ca, cb;
   if (!nearest_cell(a, ca) || !nearest_cell(b, cb)) return false;
   // Breadth-first search over inside cells, diagonal steps only past two inside cells.
-  cv::Mat1i from(inside_.size(), -1);
+  const int cols = inside_.cols;
+  if (stamp_.empty()) {
+    stamp_.assign(inside_.total(), 0);
+    parent_.assign(inside_.total(), 0);
+  }
+  const unsigned stamp = ++search_;
+  auto seen = [&](cv::Point c) { return stamp_[c.y * cols + c.x] == stamp; };
+  auto set_from = [&](cv::Point c, cv::Point f) {
+    stamp_[c.y * cols + c.x] = stamp;
+    parent_[c.y * cols + c.x] = f.y * cols + f.x;
+  };
+  auto from = [&](cv::Point c) { return parent_[c.y * cols + c.x]; };
   std::vector<cv::Point> queue{ca};
-  from(ca) = ca.y * inside_.cols + ca.x;
+  set_from(ca, ca);
   bool found = ca == cb;
   for (size_t q = 0; q < queue.size() && !found; ++q) {
     const cv::Point c = queue[q];
@@ -75,9 +86,9 @@ bool InsideTravel::path(cv::Point2f a, cv::Point2f b, std::vector<cv::Point2f>& 
       for (int dx = -1; dx <= 1; ++dx) {
         const cv::Point n(c.x + dx, c.y + dy);
         if ((dx == 0 && dy == 0) || n.x < 0 || n.y < 0 || n.x >= inside_.cols || n.y >= inside_.rows) continue;
-        if (!inside_(n) || from(n) >= 0) continue;
+        if (!inside_(n) || seen(n)) continue;
         if (dx != 0 && dy != 0 && (!inside_(c.y, n.x) || !inside_(n.y, c.x))) continue;
-        from(n) = c.y * inside_.cols + c.x;
+        set_from(n, c);
         if (n == cb) {
           found = true;
           break;

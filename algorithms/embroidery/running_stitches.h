@@ -16,7 +16,8 @@ struct StitchParams;
 
 // Shortest-ish paths that stay inside a region: straight when the segment stays on mask
 // pixels, otherwise a breadth-first search on a grid of cells wholly inside the mask
-// (cell_px wide), shortened by line of sight. The mask must outlive the object.
+// (cell_px wide), shortened by line of sight. The mask must outlive the object. Not
+// thread-safe: path() reuses a scratch buffer (one object per region and thread).
 class InsideTravel {
  public:
   InsideTravel(const cv::Mat1b& mask, double cell_px);
@@ -29,6 +30,10 @@ class InsideTravel {
   const cv::Mat1b& mask_;
   int cell_;
   cv::Mat1b inside_;  // per cell: 255 when every pixel of the cell is inside the mask
+  // Search scratch: a cell's parent is valid when its stamp is the current search's.
+  mutable std::vector<int> parent_;
+  mutable std::vector<unsigned> stamp_;
+  mutable unsigned search_ = 0;
   bool nearest_cell(cv::Point2f p, cv::Point& cell) const;
 };
 

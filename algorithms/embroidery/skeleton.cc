@@ -189,24 +189,32 @@ namespace {
 // passes cannot see across, and only tiles holding stroke pixels are thinned at all.
 cv::Mat1b thin(const cv::Mat1b& mask, double max_half_width) {
   cv::Mat1b skel;
-  if (mask.total() <= 96 * 96) {
+  const int tile = 48, margin = 2 * static_cast<int>(std::ceil(max_half_width)) + 6;
+  std::vector<std::pair<cv::Rect, cv::Rect>> tiles;  // interior, interior + margin
+  if (mask.total() > 4 * (tile + 2 * margin) * (tile + 2 * margin)) {
+    cv::Mat1i sum;
+    cv::integral(mask, sum, CV_32S);
+    const cv::Rect all(0, 0, mask.cols, mask.rows);
+    size_t area = 0;
+    for (int y = 0; y < mask.rows; y += tile)
+      for (int x = 0; x < mask.cols; x += tile) {
+        const cv::Rect in = cv::Rect(x, y, tile, tile) & all;
+        if (sum(in.br()) - sum(in.y, in.br().x) - sum(in.br().y, in.x) + sum(in.tl()) == 0) continue;
+        tiles.emplace_back(in, cv::Rect(x - margin, y - margin, tile + 2 * margin, tile + 2 * margin) & all);
+        area += tiles.back().second.area();
+      }
+    if (2 * area > mask.total()) tiles.clear();  // dense: one pass over the image is cheaper
+  }
+  if (tiles.empty()) {
     cv::ximgproc::thinning(mask, skel, cv::ximgproc::THINNING_ZHANGSUEN);
     return skel;
   }
   skel = cv::Mat1b(mask.size(), uchar(0));
-  const int tile = 48, margin = 2 * static_cast<int>(std::ceil(max_half_width)) + 8;
-  cv::Mat1i sum;
-  cv::integral(mask, sum, CV_32S);
-  const cv::Rect all(0, 0, mask.cols, mask.rows);
   cv::Mat1b part;
-  for (int y = 0; y < mask.rows; y += tile)
-    for (int x = 0; x < mask.cols; x += tile) {
-      const cv::Rect in = cv::Rect(x, y, tile, tile) & all;
-      if (sum(in.br()) - sum(in.y, in.br().x) - sum(in.br().y, in.x) + sum(in.tl()) == 0) continue;
-      const cv::Rect out = cv::Rect(x - margin, y - margin, tile + 2 * margin, tile + 2 * margin) & all;
-      cv::ximgproc::thinning(mask(out), part, cv::ximgproc::THINNING_ZHANGSUEN);
-      part(in - out.tl()).copyTo(skel(in));
-    }
+  for (const auto& [in, out] : tiles) {
+    cv::ximgproc::thinning(mask(out), part, cv::ximgproc::THINNING_ZHANGSUEN);
+    part(in - out.tl()).copyTo(skel(in));
+  }
   return skel;
 }
 
@@ -368,12 +376,14 @@ std::vector<SkeletonBranch> skeleton_branches(const cv::Mat1b& mask_in, double m
   cv::distanceTransform(padded, dist, cv::DIST_L2, 3);
   double max_half_width = 0;
   cv::minMaxLoc(dist, nullptr, &max_half_width);
-  // Thinning time grows with the stroke's half width (one iteration per pixel peeled): a wide
-  // stroke (over 24 px) is thinned at 1/f scale (half width 6 to 8 px there), a cell set
-  // when most of its pixels are (a cell set by any pixel makes staircase diagonals two cells
-  // thick, which Zhang-Suen erases entirely); parts narrower than about f / 2 pixels vanish at
-  // that scale, and the branches are placed to about f / 2 pixels.
-  const int f = max_half_width > 12 ? static_cast<int>(std::ceil(max_half_width / 8)) : 1;
+  // Thinning time grows with the stroke's half width (one iteration per pixel peeled) times
+  // the box's area. A wide stroke (typical half width over 8 px: twice the mean distance to
+  // the background, as for a uniform stripe) is thinned at 1/f scale, typical half width 4 to
+  // 8 px there; a cell is set when most of its pixels are (a cell set by any pixel makes
+  // staircase diagonals two cells thick, which Zhang-Suen erases entirely). Parts narrower
+  // than about f pixels vanish at that scale, and branches are placed to about f / 2 pixels.
+  const double typical_half_width = 2 * cv::mean(dist, padded)[0];
+  const int f = typical_half_width > 8 ? static_cast<int>(typical_half_width / 4) : 1;
   if (f == 1) return branches_of(mask_in, min_branch_px, max_half_width);
   const int w = (mask_in.cols + f - 1) / f, h = (mask_in.rows + f - 1) / f;
   cv::Mat1b big(h * f, w * f, uchar(0)), small;
