@@ -56,6 +56,7 @@ bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const Column
     forward = false;
   }
   const int n = static_cast<int>(cuts.size());
+  const double span_limit = p.max_span_px > 0 ? std::hypot(p.max_span_px + 2 * p.pull_px, p.spacing_px) : 0.0;
   for (int col = 0; col < k; ++col, forward = !forward) {
     for (int t = 0; t < n; ++t) {
       const Cut& c = cuts[forward ? t : n - 1 - t];
@@ -64,7 +65,10 @@ bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const Column
       const cv::Point2f pt = c.centre + c.normal * static_cast<float>(e);
       // Get there inside the region: to the cut's own point nearest the first needle point.
       if (t == 0 && col == 0) sink.travel_to(c.centre + c.normal * static_cast<float>(std::clamp(e, -c.minus, c.plus)));
-      sink.stitch(pt);
+      // A span longer than a sub-column (the width jumps between neighbouring cuts, or the
+      // cuts fan out on a tight bend) is split like a running stitch: no stitch may snag.
+      if (span_limit > 0 && !sink.empty() && cv::norm(pt - sink.last()) > span_limit) sink.run(pt);
+      else sink.stitch(pt);
     }
   }
   return true;

@@ -23,7 +23,9 @@ struct ColumnParams {
 
 // Sews one column along `curve` (sampled every spacing_px / 2, see fit_bspline): at each
 // sample inside the mask the perpendicular's two exits from the mask are the column's edges;
-// the needle alternates between them. Samples off the mask are skipped. Returns false when no
+// the needle alternates between them. Samples off the mask are skipped. A span longer than
+// hypot(max_span + 2 pull, spacing) (the width jumping between neighbouring cuts) is run in
+// stitches of the sink's length instead. Returns false when no
 // sample lies inside the mask (nothing sewn).
 bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const ColumnParams& p, StitchSink& sink);
 

@@ -46,9 +46,19 @@ StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& dir
   const cv::Point2f centre((seg.size.width - 1) / 2.0f, (seg.size.height - 1) / 2.0f);
 
   // Each region's stitches on its own (regions are independent; the order comes later).
+  // Costliest first (box area; thinning makes satin and edge dearer per pixel) so a large
+  // region does not start last on one thread while the other idles.
+  std::vector<int> by_cost(n);
+  std::vector<double> cost(n);
+  for (size_t i = 0; i < n; ++i) {
+    by_cost[i] = static_cast<int>(i);
+    cost[i] = static_cast<double>(seg.regions[i].mask.total()) * (seg.regions[i].style == Style::long_short ? 1 : 4);
+  }
+  std::stable_sort(by_cost.begin(), by_cost.end(), [&](int a, int b) { return cost[a] > cost[b]; });
   std::vector<std::vector<StitchPoint>> stitches(n);
   cv::parallel_for_(cv::Range(0, static_cast<int>(n)), [&](const cv::Range& r) {
-    for (int i = r.start; i < r.end; ++i) {
+    for (int k = r.start; k < r.end; ++k) {
+      const int i = by_cost[k];
       const Region& reg = seg.regions[i];
       if (reg.mask.empty() || cv::countNonZero(reg.mask) == 0) continue;
       const cv::Point2f offset = cv::Point2f(static_cast<float>(reg.bbox.x), static_cast<float>(reg.bbox.y)) - centre;
