@@ -218,6 +218,20 @@ TEST(EmbroideryStitches, WideSatinColumnIsSplit) {
   EXPECT_GE(coverage(m, rasterise(pts, m.size(), 3)), 0.95);  // threads about 0.4 mm = 3 px wide
 }
 
+TEST(EmbroideryStitches, SatinSpansStayBoundedWhereTheWidthJumps) {
+  // A 4 mm stripe with a 12 mm block on one side and a tight hairpin: neighbouring cuts differ
+  // by far more than a sub-column's width there.
+  cv::Mat1b m(300, 480, uchar(0));
+  cv::line(m, {40, 80}, {440, 80}, 255, 32);
+  cv::rectangle(m, cv::Rect(200, 80, 96, 96), 255, cv::FILLED);
+  cv::ellipse(m, cv::Point(240, 230), {60, 30}, 0, 180, 360, 255, 24);
+  const StitchParams p = params8();
+  const auto pts = satin_region(m, {0, 0}, 0.0, p);
+  ASSERT_FALSE(pts.empty());
+  for (double l : stitch_lengths(pts))
+    ASSERT_LE(l, std::hypot(p.satin_max_mm + 2 * p.satin_pull_comp_mm, p.satin_spacing_mm) + 1e-6);
+}
+
 TEST(EmbroideryStitches, EdgeRunningStitchFollowsAThinLine) {
   cv::Mat1b m(200, 300, uchar(0));
   cv::line(m, {20, 180}, {280, 20}, 255, 3);  // 0.4 mm: thinner than edge_satin_min_mm
