@@ -22,8 +22,7 @@ struct ScaledTile {
   cv::Mat3b color;
   cv::Mat3f lab;
   cv::Mat1b alpha;
-  cv::Mat1f alphaf;
-  cv::Mat3f normal;   // decoded tile-frame normal (u, v-down, out)
+  cv::Mat4f normal;   // decoded tile-frame normal (u, v-down, out, 0): four floats sample at once
   cv::Vec3f mean_lab;
   double w_px = 0, h_px = 0;   // tile size in image pixels
   bool wrap_u = false;         // edge tiles repeat along u; long-short and satin end at contours
@@ -47,9 +46,9 @@ ScaledTile scale_tile(const ReferenceTexture& t, Style style, double px_per_mm) 
       const cv::Vec3b b = n8(y, x);   // B = out, G = up, R = +u
       cv::Vec3f n(b[2] / 127.5f - 1.f, -(b[1] / 127.5f - 1.f), b[0] / 127.5f - 1.f);
       const float len = std::sqrt(n.dot(n));
-      s.normal(y, x) = len > 0 ? n / len : cv::Vec3f(0, 0, 1);
+      if (len > 0) n /= len;
+      s.normal(y, x) = len > 0 ? cv::Vec4f(n[0], n[1], n[2], 0) : cv::Vec4f(0, 0, 1, 0);
     }
-  s.alpha.convertTo(s.alphaf, CV_32F);
   s.lab = to_lab(s.color);
   s.mean_lab = tile_mean_lab(s.color, s.alpha);
   s.wrap_u = style == Style::edge;
@@ -81,16 +80,20 @@ Tap tap(float u, float v, int w, int h, bool wrap_u) {
   }
   return t;
 }
-template <typename T>
-T lerp2(const cv::Mat_<T>& m, const Tap& t) {
-  const T a = m(t.y0, t.x0), b = m(t.y0, t.x1), c = m(t.y1, t.x0), d = m(t.y1, t.x1);
-  return (a * (1 - t.fx) + b * t.fx) * (1 - t.fy) + (c * (1 - t.fx) + d * t.fx) * t.fy;
+// Bilinear sample of a four-float tile.
+inline void lerp4(const cv::Mat4f& m, const Tap& t, float out[4]) {
+  const float* a = m.ptr<float>(t.y0) + 4 * t.x0;
+  const float* b = m.ptr<float>(t.y0) + 4 * t.x1;
+  const float* c = m.ptr<float>(t.y1) + 4 * t.x0;
+  const float* d = m.ptr<float>(t.y1) + 4 * t.x1;
+  const float w00 = (1 - t.fx) * (1 - t.fy), w01 = t.fx * (1 - t.fy), w10 = (1 - t.fx) * t.fy, w11 = t.fx * t.fy;
+  for (int k = 0; k < 4; ++k) out[k] = a[k] * w00 + b[k] * w01 + c[k] * w10 + d[k] * w11;
 }
 
-// One region ready to render: its UVs and its recoloured tile (colour as float B,G,R).
+// One region ready to render: its UVs and its recoloured tile (B, G, R, alpha in 0..1).
 struct Layer {
   RegionUV uv;
-  cv::Mat3f color;
+  cv::Mat4f color;
   const ScaledTile* tile = nullptr;
   Style style = Style::long_short;
 };
@@ -126,7 +129,13 @@ Layer prepare_region(const Segmentation& seg, const Region& r, double direction,
     case Style::satin: L.uv = uv_satin(m, box, tile.w_px, tile.h_px, direction); break;
     case Style::edge: L.uv = uv_edge(m, box, tile.w_px, tile.h_px, direction); break;
   }
-  recolor_tile(tile.lab, tile.alpha, tile.mean_lab, seg.palette.lab.at(r.color), p.max_L).convertTo(L.color, CV_32F);
+  const cv::Mat3b colored = recolor_tile(tile.lab, tile.alpha, tile.mean_lab, seg.palette.lab.at(r.color), p.max_L);
+  L.color.create(colored.size());
+  for (int y = 0; y < colored.rows; ++y)
+    for (int x = 0; x < colored.cols; ++x) {
+      const cv::Vec3b c = colored(y, x);
+      L.color(y, x) = cv::Vec4f(c[0], c[1], c[2], tile.alpha(y, x) / 255.f);
+    }
   return L;
 }
 
@@ -205,15 +214,17 @@ Synthesis synthesize_impl(const Segmentation& seg, const std::vector<double>& di
           ouv[x] = uv[x];
           ost[x] = style;
           const Tap t = tap(uv[x][0], uv[x][1], tw, th, tile.wrap_u);
-          const float a = lerp2(tile.alphaf, t) / 255.f;
+          float c[4];
+          lerp4(L.color, t, c);
+          const float a = c[3];
           if (a <= 0) continue;
-          const cv::Vec3f c = lerp2(L.color, t);
           for (int k = 0; k < 3; ++k) o[x][k] = cv::saturate_cast<uchar>(a * c[k] + (1 - a) * o[x][k]);
           // Tile normal (u, v, out) into the image frame: +u along the stitch angle, +v at
           // angle + 90 deg.
           const float ang = L.uv.angle_at(y, x);
           if (ang != last_angle) last_angle = ang, ca = std::cos(ang), sa = std::sin(ang);
-          const cv::Vec3f nt = lerp2(tile.normal, t);
+          float nt[4];
+          lerp4(tile.normal, t, nt);
           const cv::Vec3f img(nt[0] * ca - nt[1] * sa, nt[0] * sa + nt[1] * ca, nt[2]);
           on[x] = a * img + (1 - a) * on[x];
         }
