@@ -37,14 +37,20 @@ double kmeans_seeded(const cv::Mat& samples, int k, cv::Mat& labels, cv::Mat& ce
   return compactness;
 }
 
-double mean_delta_e(const cv::Mat& samples, const cv::Mat& labels, const cv::Mat& centers) {
+// The automatic rule: the clusters hold the colours when the mean dE to the centres is at most
+// delta_e and at most 0.25% of the samples are farther than 3 * delta_e (a clearly different
+// colour). The second part keeps small but distinct features: a thin black line on a white
+// sheet barely moves the mean, yet it must get its own thread.
+bool clusters_hold(const cv::Mat& samples, const cv::Mat& labels, const cv::Mat& centers, double delta_e) {
   double sum = 0;
+  int far = 0;
+  const float far2 = static_cast<float>(9 * delta_e * delta_e);
   for (int i = 0; i < samples.rows; ++i) {
-    const cv::Vec3f s = samples.at<cv::Vec3f>(i);
-    const cv::Vec3f c = centers.at<cv::Vec3f>(labels.at<int>(i));
-    sum += std::sqrt(dist2(s, c));
+    const float d2 = dist2(samples.at<cv::Vec3f>(i), centers.at<cv::Vec3f>(labels.at<int>(i)));
+    sum += std::sqrt(d2);
+    far += d2 > far2;
   }
-  return samples.rows ? sum / samples.rows : 0.0;
+  return sum <= delta_e * samples.rows && far * 400 <= samples.rows;
 }
 
 }  // namespace
@@ -114,7 +120,7 @@ ColorExtraction extract_colors(const cv::Mat& image, const ColorParams& p) {
     // Automatic: the smallest k that holds the colours within auto_delta_e on average.
     for (int k = 1; k <= std::min(p.max_colors, samples.rows); ++k) {
       kmeans_seeded(samples, k, labels, centers);
-      if (mean_delta_e(samples, labels, centers) <= p.auto_delta_e) break;
+      if (clusters_hold(samples, labels, centers, p.auto_delta_e)) break;
     }
   }
   std::vector<cv::Vec3f> centre(centers.rows);

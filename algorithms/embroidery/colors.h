@@ -20,13 +20,14 @@ namespace atelier::embroidery {
 enum class Background { automatic, sew };
 
 struct ColorParams {
-  int median_ksize = 5;      // odd, >= 1 (1 = no filter)
+  int median_ksize = 3;      // odd, >= 1 (1 = no filter); 5 and up erase 2-px lines
   int colors = 0;            // 0 = automatic; otherwise this many clusters (<= max_colors),
                              // counting a background cluster; colours left without a pixel
                              // are dropped from the palette
   int max_colors = 12;       // cap for automatic and for `colors`; 1..64
   double auto_delta_e = 12;  // automatic: the smallest k whose clusters hold the pixels within
-                             // this mean CIE76 dE of their centres (or max_colors); > 0
+                             // this mean CIE76 dE of their centres, with at most 0.25% of them
+                             // farther than 3x this (or max_colors); > 0
   int min_area_px = 16;      // components smaller than this are merged into the neighbour they
                              // share the longest border with; >= 1. A small component with no
                              // sewn neighbour is not sewn (no one-stitch regions)
