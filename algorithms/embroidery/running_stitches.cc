@@ -133,6 +133,7 @@ void StitchSink::run(cv::Point2f p) {
   }
   const cv::Point2f a = last();
   const double d = cv::norm(p - a);
+  if (d < 1e-4) return;  // already there: no stitch in place
   const int n = std::max(1, static_cast<int>(std::ceil(d / max_px_ - 1e-9)));
   for (int i = 1; i <= n; ++i) stitch(a + (p - a) * (static_cast<float>(i) / n));
 }

@@ -48,7 +48,7 @@ class StitchSink {
   cv::Point2f last() const { return pts_.back().p; }
   // One needle penetration at p, however far (satin spans).
   void stitch(cv::Point2f p);
-  // A straight run to p, split into equal stitches of at most max_px.
+  // A straight run to p, split into equal stitches of at most max_px (nothing when already there).
   void run(cv::Point2f p);
   // Runs through the polyline (its first point is run to as well).
   void run_along(const std::vector<cv::Point2f>& polyline);

@@ -38,6 +38,43 @@ std::uint32_t rgb(const cv::Vec3b& bgr) {
   return (static_cast<std::uint32_t>(bgr[2]) << 16) | (static_cast<std::uint32_t>(bgr[1]) << 8) | bgr[0];
 }
 
+// Lock stitches (as digitizers add them): thread that starts after a jump or ends at a trim,
+// colour change or the end would pull out. A tie goes back along the last (or ahead along the
+// next) stitch by up to kTieMm and returns, so it stays on thread already in the region.
+constexpr double kTieMm = 0.5;
+
+StitchPoint toward(const StitchPoint& from, const StitchPoint& to) {
+  const double len = std::hypot(to.x_mm - from.x_mm, to.y_mm - from.y_mm);
+  const double t = len > kTieMm ? kTieMm / len : 1.0;
+  return {from.x_mm + (to.x_mm - from.x_mm) * t, from.y_mm + (to.y_mm - from.y_mm) * t, StitchKind::stitch};
+}
+
+std::vector<StitchPoint> with_ties(const std::vector<StitchPoint>& in) {
+  std::vector<StitchPoint> out;
+  out.reserve(in.size() + in.size() / 8);
+  for (size_t i = 0; i < in.size(); ++i) {
+    const StitchPoint& p = in[i];
+    const bool ends_thread = p.kind == StitchKind::trim || p.kind == StitchKind::color_change || p.kind == StitchKind::end;
+    if (ends_thread && out.size() >= 2 && out.back().kind == StitchKind::stitch &&
+        out[out.size() - 2].kind == StitchKind::stitch) {
+      const StitchPoint last = out.back(), before = out[out.size() - 2];
+      if (std::hypot(last.x_mm - before.x_mm, last.y_mm - before.y_mm) > 1e-6) {
+        out.push_back(toward(last, before));
+        out.push_back(last);
+      }
+    }
+    out.push_back(p);
+    // The first stitch after a jump: tie in towards the next stitch.
+    if (p.kind == StitchKind::stitch && i > 0 && in[i - 1].kind == StitchKind::jump && i + 1 < in.size() &&
+        in[i + 1].kind == StitchKind::stitch &&
+        std::hypot(in[i + 1].x_mm - p.x_mm, in[i + 1].y_mm - p.y_mm) > 1e-6) {
+      out.push_back(toward(p, in[i + 1]));
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& directions, const StitchParams& params) {
@@ -130,6 +167,7 @@ StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& dir
     }
   }
   out.push_back({0, 0, StitchKind::end});
+  out = with_ties(out);
 
   const StitchStats st = stitch_stats(plan);
   const double w = st.max_x_mm - st.min_x_mm, h = st.max_y_mm - st.min_y_mm;

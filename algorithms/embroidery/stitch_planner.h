@@ -45,7 +45,9 @@ class HoopTooSmall : public std::runtime_error {
 // within a layer, regions nearest first from the needle. A move to the next region longer
 // than trim_jump_mm is trim + jump (a zero-length stitch then anchors the thread), a shorter
 // one is a stitch; a colour block starts with trim, color_change and a jump. The plan ends
-// with `end`. colors_rgb: one 0xRRGGBB per block. directions: radians per region, indexed like
+// with `end`. Lock stitches: before every trim, colour change and the end the needle goes back
+// 0.5 mm along the last stitch and returns; after every jump it goes 0.5 mm ahead along the
+// next stitch and returns. colors_rgb: one 0xRRGGBB per block. directions: radians per region, indexed like
 // seg.regions (fill angle of long-short regions; satin and edge regions use theirs only when
 // they are too small for a skeleton and are filled instead). Regions with an empty mask are
 // skipped.

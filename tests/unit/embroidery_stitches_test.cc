@@ -324,6 +324,31 @@ TEST(EmbroideryStitches, PlanHasColourBlocksTrimsAndAnEnd) {
   EXPECT_TRUE(cv::norm(cv::Point2d(fx, fy) - cv::Point2d(110, 120)) < 82 || (fx > 298 && fy > 248));
 }
 
+TEST(EmbroideryStitches, ThreadIsLockedAtEveryStartAndCut) {
+  const Segmentation seg = drawn_design();
+  const StitchPlan plan = plan_stitches(seg, std::vector<double>(seg.regions.size(), 0.5), params8());
+  const auto& pts = plan.points;
+  auto same = [](const StitchPoint& a, const StitchPoint& b) { return std::hypot(a.x_mm - b.x_mm, a.y_mm - b.y_mm) < 1e-9; };
+  int ties = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const StitchKind k = pts[i].kind;
+    if (k == StitchKind::trim || k == StitchKind::color_change || k == StitchKind::end) {
+      if (i >= 1 && pts[i - 1].kind != StitchKind::stitch) continue;  // a colour change right after its trim
+      ASSERT_GE(i, 3u);
+      // ... a, b, a, cut: back along the last stitch and return.
+      EXPECT_TRUE(same(pts[i - 1], pts[i - 3]) && pts[i - 2].kind == StitchKind::stitch) << "no tie-off at " << i;
+      EXPECT_LE(std::hypot(pts[i - 1].x_mm - pts[i - 2].x_mm, pts[i - 1].y_mm - pts[i - 2].y_mm), 0.5 + 1e-9);
+      ++ties;
+    }
+    if (k == StitchKind::jump && i + 3 < pts.size() && pts[i + 1].kind == StitchKind::stitch) {
+      // jump to a, a, b, a: ahead along the next stitch and return.
+      EXPECT_TRUE(same(pts[i + 1], pts[i]) && same(pts[i + 3], pts[i + 1])) << "no tie-in at " << i;
+      ++ties;
+    }
+  }
+  EXPECT_GE(ties, 2 * (stitch_stats(plan).trims + 1));
+}
+
 TEST(EmbroideryStitches, PlanCoversEveryRegion) {
   const Segmentation seg = drawn_design();
   const StitchParams p = params8();
