@@ -25,8 +25,8 @@ struct ColumnParams {
 // sample inside the mask the perpendicular's two exits from the mask are the column's edges;
 // the needle alternates between them. Samples off the mask are skipped. A span longer than
 // hypot(max_span + 2 pull, spacing) (the width jumping between neighbouring cuts) is run in
-// stitches of the sink's length instead. Returns false when no
-// sample lies inside the mask (nothing sewn).
+// stitches of the sink's length instead. Returns false when no sample lies inside the mask
+// (nothing sewn).
 bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const ColumnParams& p, StitchSink& sink);
 
 // A satin region: its skeleton branches (shorter than 1.5 mm dropped) as columns, nearest
