@@ -6,7 +6,7 @@
 //   width_mm = 100 [5, 2000]           the design's width; its height follows the image
 //   colors = "auto" | 1..64            thread colours (paper 4: CIELab clustering)
 //   max_colors = 12 [1, 64]            cap for "auto"
-//   median = 5 [1, 15], odd            median filter before clustering
+//   median = 3 [1, 15], odd            median filter before clustering (5 erases 2-px lines)
 //   min_region_mm2 = 1 [0, 10000]      smaller single-colour specks join a neighbour
 //   background = "auto" | "sew"        auto: transparent pixels and a white border colour are
 //                                      the fabric (not sewn); sew: every opaque pixel is sewn
