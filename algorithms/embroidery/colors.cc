@@ -38,19 +38,19 @@ double kmeans_seeded(const cv::Mat& samples, int k, cv::Mat& labels, cv::Mat& ce
 }
 
 // The automatic rule: the clusters hold the colours when the mean dE to the centres is at most
-// delta_e and at most 0.25% of the samples are farther than 3 * delta_e (a clearly different
+// delta_e and at most 0.5% of the samples are farther than 4 * delta_e (a clearly different
 // colour). The second part keeps small but distinct features: a thin black line on a white
 // sheet barely moves the mean, yet it must get its own thread.
 bool clusters_hold(const cv::Mat& samples, const cv::Mat& labels, const cv::Mat& centers, double delta_e) {
   double sum = 0;
   int far = 0;
-  const float far2 = static_cast<float>(9 * delta_e * delta_e);
+  const float far2 = static_cast<float>(16 * delta_e * delta_e);
   for (int i = 0; i < samples.rows; ++i) {
     const float d2 = dist2(samples.at<cv::Vec3f>(i), centers.at<cv::Vec3f>(labels.at<int>(i)));
     sum += std::sqrt(d2);
     far += d2 > far2;
   }
-  return sum <= delta_e * samples.rows && far * 400 <= samples.rows;
+  return sum <= delta_e * samples.rows && far * 200 <= samples.rows;
 }
 
 }  // namespace

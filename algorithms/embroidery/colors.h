@@ -26,8 +26,8 @@ struct ColorParams {
                              // are dropped from the palette
   int max_colors = 12;       // cap for automatic and for `colors`; 1..64
   double auto_delta_e = 12;  // automatic: the smallest k whose clusters hold the pixels within
-                             // this mean CIE76 dE of their centres, with at most 0.25% of them
-                             // farther than 3x this (or max_colors); > 0
+                             // this mean CIE76 dE of their centres, with at most 0.5% of them
+                             // farther than 4x this (or max_colors); > 0
   int min_area_px = 16;      // components smaller than this are merged into the neighbour they
                              // share the longest border with; >= 1. A small component with no
                              // sewn neighbour is not sewn (no one-stitch regions)

@@ -67,7 +67,7 @@ StrokeWidths stroke_widths(const cv::Mat1b& mask, cv::Point origin, cv::Size ima
     cv::Point q = p;
     for (int s = 1; s <= max_steps; ++s) {
       const float t = 0.5f * static_cast<float>(s);
-      const cv::Point c(static_cast<int>(std::lround(p.x + t * dx)), static_cast<int>(std::lround(p.y + t * dy)));
+      const cv::Point c(cvRound(p.x + t * dx), cvRound(p.y + t * dy));
       if (c == q) continue;
       if (!inside(c.x, c.y)) break;
       q = c;
