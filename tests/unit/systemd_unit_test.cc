@@ -165,7 +165,8 @@ TEST_F(SystemdUnitTest, UnitRunsSandboxedButKeepsSerialPorts) {
   EXPECT_EQ(s["RuntimeDirectory"], "atelier");
   EXPECT_EQ(s["RuntimeDirectoryMode"], "0750");
   EXPECT_EQ(s["ProtectSystem"], "strict");
-  EXPECT_EQ(s["ReadWritePaths"], "/var/spool/atelier");
+  // The spool, and where file-drop devices' sticks and shares are mounted.
+  EXPECT_EQ(s["ReadWritePaths"], "/var/spool/atelier -/media -/mnt -/run/media");
   EXPECT_EQ(s["NoNewPrivileges"], "yes");
   EXPECT_EQ(s["RestrictAddressFamilies"], "AF_UNIX AF_NETLINK");
   // PrivateDevices= would hide /dev/ttyACM* and /dev/ttyUSB*: the machines.
