@@ -163,9 +163,20 @@ Synthesis synthesize_impl(const Segmentation& seg, const std::vector<double>& di
   }
 
   const int n = static_cast<int>(seg.regions.size());
+  // Costliest first (box area; satin and edge maps thin and fit curves, so they cost more per
+  // pixel), one region per task, so a large region does not start last on one thread while
+  // the other idles.
+  std::vector<int> by_cost(n);
+  std::vector<double> cost(n);
+  for (int i = 0; i < n; ++i) {
+    by_cost[i] = i;
+    cost[i] = static_cast<double>(seg.regions[i].mask.total()) * (seg.regions[i].style == Style::long_short ? 1 : 4);
+  }
+  std::stable_sort(by_cost.begin(), by_cost.end(), [&](int a, int b) { return cost[a] > cost[b]; });
   std::vector<Layer> layers(n);
   cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) {
+    for (int k = range.start; k < range.end; ++k) {
+      const int i = by_cost[k];
       const Region& r = seg.regions[i];
       if (r.mask.empty() || r.area_px == 0) continue;
       layers[i] = prepare_region(seg, r, directions[i], tiles[static_cast<int>(r.style)], p);

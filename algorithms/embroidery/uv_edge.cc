@@ -16,6 +16,10 @@ namespace {
 struct Piece {
   cv::Point2f p, q;
   float half_width;
+  // Derived once per piece, not per pixel: d = q - p, |d|, and +u's angle atan2(d).
+  cv::Point2f d;
+  float len = 0;
+  float angle = 0;
 };
 
 struct Owner {
@@ -62,6 +66,9 @@ RegionUV uv_edge(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, d
         pc.p -= d * 0.5f * static_cast<float>(piece_px);
         pc.q += d * 0.5f * static_cast<float>(piece_px);
       }
+      pc.d = pc.q - pc.p;
+      pc.len = std::sqrt(pc.d.dot(pc.d));
+      pc.angle = std::atan2(pc.d.y, pc.d.x);
       pieces[b].push_back(pc);
     }
   }
@@ -93,12 +100,15 @@ RegionUV uv_edge(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, d
         if (ring) i = (i + static_cast<int>(P.size())) % static_cast<int>(P.size());
         if (i < 0 || i >= static_cast<int>(P.size()) || (delta != 0 && i == j)) continue;
         const Piece& L = P[i];
-        const cv::Point2f d = L.q - L.p;
-        const float len = std::sqrt(d.dot(d));
+        const cv::Point2f d = L.d;
+        const float len = L.len;
         const cv::Point2f r = X - L.p;
         const double u = r.dot(d) / (len * len);
         const double v = (d.x * r.y - d.y * r.x) / len;   // signed, along perp = (-d.y, d.x)
-        const double dist = u < 0 ? cv::norm(r) : u > 1 ? cv::norm(X - L.q) : std::abs(v);
+        const cv::Point2f rq = X - L.q;
+        const double dist = u < 0 ? std::sqrt(static_cast<double>(r.dot(r)))
+                            : u > 1 ? std::sqrt(static_cast<double>(rq.dot(rq)))
+                                    : std::abs(v);
         const double w = 1.0 / ((1.0 + dist) * (1.0 + dist));   // a = 1, b = 2, p = 0
         sw += w;
         sx += w * (delta + u);
@@ -107,8 +117,7 @@ RegionUV uv_edge(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, d
       }
       const double u = sx / sw, v = std::clamp(sy / sw, 0.0, 1.0);
       out.uv(y, x) = cv::Vec2f(static_cast<float>(u - std::floor(u)), static_cast<float>(std::min(v, 0.9999)));
-      const cv::Point2f d = P[j].q - P[j].p;
-      out.angle(y, x) = std::atan2(d.y, d.x);
+      out.angle(y, x) = P[j].angle;
     }
   return out;
 }

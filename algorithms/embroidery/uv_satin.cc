@@ -28,6 +28,7 @@ struct Pair {
   float v;              // unwrapped: piece index + relative contour order
   cv::Point2f e;        // c1 - c0
   float len = 0;        // |e|
+  float inv_len2 = 0;   // 1 / |e|^2 (0 for a degenerate pair): u without a division per pixel
 };
 
 }  // namespace
@@ -129,7 +130,9 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
           const ContourPx& a = A[ia + std::min(na - 1, static_cast<size_t>(f * na))];
           const ContourPx& c = B[ib + std::min(nbb - 1, static_cast<size_t>(f * nbb))];
           const cv::Point2f e = c.p - a.p;
-          pairs[b].push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(piece + f), e, std::sqrt(e.dot(e))});
+          const float len = std::sqrt(e.dot(e));
+          pairs[b].push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(piece + f), e, len,
+                              len > 1e-6f ? 1.f / (len * len) : 0.f});
         }
       ia = ja;
       ib = jb;
@@ -146,6 +149,8 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
   out.direction = static_cast<float>(direction);
   const float window = static_cast<float>(std::max(3.0, 0.5 * tile_h_px));
   bool missing = false;
+  cv::Point2f last_t(0, 0);
+  float last_angle = std::atan2(-last_t.x, last_t.y);
   for (int y = 0; y < mask.rows; ++y)
     for (int x = 0; x < mask.cols; ++x) {
       if (!mask(y, x)) continue;
@@ -170,12 +175,15 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
       for (auto it = lo; it != P.end() && it->s_mid <= s + window; ++it) {
         if (it->len < 1e-6f) continue;
         const cv::Point2f r0 = p - it->c0;
-        const float dist = std::abs(it->e.x * r0.y - it->e.y * r0.x) / it->len;
-        // (|p-c0| + |p-c1|) >= |c0-c1|, so eq. 7 is below exp(-dist): far lines do not count.
-        if (dist > 8.f) continue;
+        // |cross| / len is the distance to the pair's line. (|p-c0| + |p-c1|) >= |c0-c1|, so
+        // eq. 7 is below exp(-dist): lines farther than 8 px do not count (no division to
+        // find out).
+        const float cross = std::abs(it->e.x * r0.y - it->e.y * r0.x);
+        if (cross > 8.f * it->len) continue;
         const cv::Point2f r1 = p - it->c1;
-        const double w = std::exp(-(std::sqrt(r0.dot(r0)) + std::sqrt(r1.dot(r1))) * dist / it->len);   // eq. 7
-        const double u = std::clamp(r0.dot(it->e) / (it->len * it->len), 0.f, 1.f);
+        // eq. 7: exp(-(|p-c0| + |p-c1|) * dist / len), dist / len = cross / len^2.
+        const double w = std::exp(-(std::sqrt(r0.dot(r0)) + std::sqrt(r1.dot(r1))) * cross * it->inv_len2);
+        const double u = std::clamp(r0.dot(it->e) * it->inv_len2, 0.f, 1.f);
         sw += w;
         su += w * u;
         sv += w * it->v;
@@ -194,7 +202,8 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
       }
       out.uv(y, x) = cv::Vec2f(static_cast<float>(u), static_cast<float>(v - std::floor(v)));
       // +u runs from the +normal side to the other: (t.y, -t.x); +v is then along the curve.
-      out.angle(y, x) = std::atan2(-t.x, t.y);
+      if (t != last_t) last_t = t, last_angle = std::atan2(-t.x, t.y);   // neighbours share a sample
+      out.angle(y, x) = last_angle;
     }
   if (missing) {
     // Sub-regions with no pair (a branch whose contour lies on one side only) take the
