@@ -16,8 +16,33 @@ struct ComponentResult {
 };
 
 // The component's regions: 4-connected pieces of each style within its bounding box.
-void cut_regions(const cv::Mat1b& style, const cv::Rect& box, int component, int color,
-                 ComponentResult& out) {
+void cut_regions(const cv::Mat1b& style, const cv::Mat1b& mask, int area_px, const cv::Rect& box,
+                 int component, int color, ComponentResult& out) {
+  // Most components get one style: then the one region is the (4-connected) component itself.
+  int first = -1;
+  bool single = true;
+  for (int y = 0; y < style.rows && single; ++y) {
+    const uchar *s = style[y], *m = mask[y];
+    for (int x = 0; x < style.cols; ++x)
+      if (m[x]) {
+        if (first < 0) first = s[x];
+        else if (s[x] != first) {
+          single = false;
+          break;
+        }
+      }
+  }
+  if (single && first >= 0) {
+    Region r;
+    r.color = color;
+    r.component = component;
+    r.style = Style(first);
+    r.bbox = box;  // the component's bounding box is tight
+    r.mask = mask.clone();
+    r.area_px = area_px;
+    out.regions.push_back(std::move(r));
+    return;
+  }
   for (int s = 0; s < kStyleCount; ++s) {
     cv::Mat1b sm = style == s;
     if (cv::countNonZero(sm) == 0) continue;
@@ -72,7 +97,7 @@ Segmentation segment(const cv::Mat& image, const ColorParams& cp, const LabelPar
           bool forced = false;
           const cv::Mat1b style = label_component(mask, box.tl(), image.size(), lp, cp.min_area_px, &forced);
           results[c].forced = forced;
-          cut_regions(style, box, c, comp.color[c], results[c]);
+          cut_regions(style, mask, comp.area_px[c], box, c, comp.color[c], results[c]);
         }
       },
       n);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,14 @@ double logistic_cost(double k, double exponent) { return k / (1.0 + std::exp(exp
 // Islands (4-connected same-style pieces under min_area_px) take the style they share the most
 // border with; repeated while something changes (at most a few rounds).
 void absorb_islands(cv::Mat1b& style, const cv::Mat1b& mask, int min_area_px) {
+  // One style alone has no islands (its only piece is the whole component): skip the scans.
+  bool present[kStyleCount] = {false, false, false};
+  for (int y = 0; y < style.rows; ++y) {
+    const uchar* s = style[y];
+    for (int x = 0; x < style.cols; ++x)
+      if (s[x] < kStyleCount) present[s[x]] = true;
+  }
+  if (present[0] + present[1] + present[2] <= 1) return;
   for (int round = 0; round < 4; ++round) {
     bool changed = false;
     for (int s = 0; s < kStyleCount; ++s) {
@@ -48,6 +57,91 @@ void absorb_islands(cv::Mat1b& style, const cv::Mat1b& mask, int min_area_px) {
     }
     if (!changed) break;
   }
+}
+
+// The block-level problem of a big component, built directly: exactly
+// coarsen(style_problem(mask, widths, p).problem, blocks) as solve_styles(sp, max_cut_nodes)
+// would build it (same groups, same sums, same sorted edges), without the full-resolution
+// edge list. Only edges crossing a block boundary survive coarsening, so only block
+// boundaries and the nearest-contour links are visited. group_of_block: block -> group, -1
+// for blocks without a component pixel.
+LabelProblem block_problem(const cv::Mat1b& mask, const StrokeWidths& widths, const LabelParams& p, int side,
+                           std::vector<int>& group_of_block, int& bw) {
+  bw = (mask.cols + side - 1) / side;
+  const int bh = (mask.rows + side - 1) / side;
+  group_of_block.assign(static_cast<size_t>(bw) * bh, -1);
+  int groups = 0;
+  for (int y = 0; y < mask.rows; ++y) {  // groups numbered by their first pixel in raster order
+    const uchar* m = mask[y];
+    int* row = &group_of_block[static_cast<size_t>(y / side) * bw];
+    for (int x = 0; x < mask.cols; ++x)
+      if (m[x] && row[x / side] < 0) row[x / side] = groups++;
+  }
+  auto group = [&](int x, int y) { return group_of_block[static_cast<size_t>(y / side) * bw + x / side]; };
+  LabelProblem c;
+  c.nodes = groups;
+  c.labels = kStyleCount;
+  c.unary.assign(static_cast<size_t>(groups) * kStyleCount, 0.0);
+  c.distance.resize(kStyleCount * kStyleCount);
+  for (int a = 0; a < kStyleCount; ++a)
+    for (int b = 0; b < kStyleCount; ++b) c.distance[a * kStyleCount + b] = smooth_cost(Style(a), Style(b), p);
+  c.label_cost.assign(p.label_cost, p.label_cost + kStyleCount);
+  cv::Mat1b not_c(mask.size(), uchar(255));
+  bool any_c = false;
+  for (size_t i = 0; i < widths.contour.size(); ++i) {  // raster order, as the node order
+    const float w = widths.width[i];
+    if (w <= 0) continue;
+    const cv::Point q = widths.contour[i];
+    const int g = group(q.x, q.y);
+    for (int s = 0; s < kStyleCount; ++s)
+      c.unary[static_cast<size_t>(g) * kStyleCount + s] += data_cost(Style(s), w, p);
+    not_c(q) = 0;
+    any_c = true;
+  }
+  std::vector<std::uint64_t> keys;
+  auto link = [&](int ga, int gb) {
+    if (ga == gb) return;
+    const std::uint64_t a = static_cast<std::uint32_t>(ga), b = static_cast<std::uint32_t>(gb);
+    keys.push_back(std::min(a, b) << 32 | std::max(a, b));
+  };
+  // 4-neighbours across a vertical block boundary (x, x + 1) and a horizontal one (y, y + 1).
+  for (int y = 0; y < mask.rows; ++y) {
+    const uchar* m = mask[y];
+    for (int x = side - 1; x + 1 < mask.cols; x += side)
+      if (m[x] && m[x + 1]) link(group(x, y), group(x + 1, y));
+  }
+  for (int y = side - 1; y + 1 < mask.rows; y += side) {
+    const uchar *m = mask[y], *d = mask[y + 1];
+    for (int x = 0; x < mask.cols; ++x)
+      if (m[x] && d[x]) link(group(x, y), group(x, y + 1));
+  }
+  if (any_c) {
+    cv::Mat dist;
+    cv::Mat1i nearest;
+    cv::distanceTransform(not_c, dist, nearest, cv::DIST_L2, 5, cv::DIST_LABEL_PIXEL);
+    std::vector<int> c_group;  // label - 1 -> group of that contour pixel
+    for (int y = 0; y < mask.rows; ++y)
+      for (int x = 0; x < mask.cols; ++x)
+        if (!not_c(y, x)) c_group.push_back(group(x, y));
+    for (int y = 0; y < mask.rows; ++y) {
+      const uchar *m = mask[y], *nc = not_c[y];
+      const int* l = nearest[y];
+      for (int x = 0; x < mask.cols; ++x) {
+        if (!m[x] || !nc[x]) continue;
+        if (l[x] < 1 || l[x] > static_cast<int>(c_group.size())) continue;
+        link(group(x, y), c_group[l[x] - 1]);
+      }
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    c.edges.push_back({static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu),
+                       static_cast<double>(j - i)});
+    i = j;
+  }
+  return c;
 }
 
 }  // namespace
@@ -230,10 +324,29 @@ cv::Mat1b label_component(const cv::Mat1b& mask, cv::Point origin, cv::Size imag
       return style;
     }
   }
-  const StyleProblem sp = style_problem(mask, widths, p);
-  const StyleSolution sol = solve_styles(sp, p.max_cut_nodes);
-  for (size_t v = 0; v < sp.pixels.size(); ++v) style(sp.pixels[v]) = static_cast<uchar>(sol.labels[v]);
-  if (sol.graph_cut) absorb_islands(style, mask, min_area_px);
+  bool graph_cut = false;
+  if (area <= p.max_cut_nodes) {
+    const StyleProblem sp = style_problem(mask, widths, p);
+    const StyleSolution sol = solve_styles(sp.problem);
+    for (size_t v = 0; v < sp.pixels.size(); ++v) style(sp.pixels[v]) = static_cast<uchar>(sol.labels[v]);
+    graph_cut = sol.graph_cut;
+  } else {
+    // The same blocks as solve_styles(sp, max_cut_nodes), the problem built on them directly.
+    const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(area) / p.max_cut_nodes)));
+    std::vector<int> group_of_block;
+    int bw = 0;
+    const LabelProblem coarse = block_problem(mask, widths, p, side, group_of_block, bw);
+    const StyleSolution sol = solve_styles(coarse);
+    for (int y = 0; y < mask.rows; ++y) {
+      const uchar* m = mask[y];
+      uchar* s = style[y];
+      const int* row = &group_of_block[static_cast<size_t>(y / side) * bw];
+      for (int x = 0; x < mask.cols; ++x)
+        if (m[x]) s[x] = static_cast<uchar>(sol.labels[row[x / side]]);
+    }
+    graph_cut = sol.graph_cut;
+  }
+  if (graph_cut) absorb_islands(style, mask, min_area_px);
   return style;
 }
 
