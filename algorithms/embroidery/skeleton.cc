@@ -218,15 +218,26 @@ cv::Mat1b thin(const cv::Mat1b& mask, double max_half_width) {
   return skel;
 }
 
-std::vector<SkeletonBranch> branches_of(const cv::Mat1b& mask_in, double min_branch_px, double max_half_width) {
+// padded1 / dist1, when given: mask_in > 0 with a 1-pixel zero border, and its distance
+// transform (DIST_L2, 3x3), which the caller already has. Every interior path to the outer of
+// two zero rings crosses the inner one, so the 2-pixel-border transform is dist1 with a zero
+// ring around it, exactly; it need not be computed again.
+std::vector<SkeletonBranch> branches_of(const cv::Mat1b& mask_in, double min_branch_px, double max_half_width,
+                                        const cv::Mat1b* padded1 = nullptr, const cv::Mat1f* dist1 = nullptr) {
   std::vector<SkeletonBranch> out;
   // A 2-pixel zero border: neighbour lookups never leave the image.
   cv::Mat1b mask;
-  cv::copyMakeBorder(mask_in > 0, mask, 2, 2, 2, 2, cv::BORDER_CONSTANT, 0);
+  if (padded1)
+    cv::copyMakeBorder(*padded1, mask, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  else
+    cv::copyMakeBorder(mask_in > 0, mask, 2, 2, 2, 2, cv::BORDER_CONSTANT, 0);
   cv::Mat1b skel = thin(mask, max_half_width);
   remove_staircase_corners(skel);
   cv::Mat1f dist;
-  cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
+  if (dist1)
+    cv::copyMakeBorder(*dist1, dist, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  else
+    cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
 
   // Intersection areas: skeleton pixels within the local stroke radius (geodesically, along
   // the skeleton) of a junction pixel; near a crossing the thinned arms are bent.
@@ -384,7 +395,7 @@ std::vector<SkeletonBranch> skeleton_branches(const cv::Mat1b& mask_in, double m
   // than about f pixels vanish at that scale, and branches are placed to about f / 2 pixels.
   const double typical_half_width = 2 * cv::mean(dist, padded)[0];
   const int f = typical_half_width > 8 ? static_cast<int>(typical_half_width / 4) : 1;
-  if (f == 1) return branches_of(mask_in, min_branch_px, max_half_width);
+  if (f == 1) return branches_of(mask_in, min_branch_px, max_half_width, &padded, &dist);
   const int w = (mask_in.cols + f - 1) / f, h = (mask_in.rows + f - 1) / f;
   cv::Mat1b big(h * f, w * f, uchar(0)), small;
   cv::Mat1b(mask_in > 0).copyTo(big(cv::Rect(0, 0, mask_in.cols, mask_in.rows)));

@@ -133,14 +133,16 @@ StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& dir
         if (seg.regions[i].color == colour && layer(seg.regions[i].style) == l && !stitches[i].empty())
           todo.push_back(i);
       while (!todo.empty()) {
-        // Nearest region start from the needle.
+        // Nearest region start from the needle (squared distances: this scan is quadratic in
+        // a colour's region count and runs on one thread).
         size_t best = 0;
-        double best_d = 1e18;
+        double best_d2 = 1e36;
         for (size_t t = 0; t < todo.size(); ++t) {
           const StitchPoint& s = stitches[todo[t]].front();
-          const double d = std::hypot(s.x_mm - cur.x_mm, s.y_mm - cur.y_mm);
-          if (d < best_d) best_d = d, best = t;
+          const double dx = s.x_mm - cur.x_mm, dy = s.y_mm - cur.y_mm, d2 = dx * dx + dy * dy;
+          if (d2 < best_d2) best_d2 = d2, best = t;
         }
+        const double best_d = std::sqrt(best_d2);
         const std::vector<StitchPoint>& seq = stitches[todo[best]];
         todo.erase(todo.begin() + static_cast<long>(best));
         const StitchPoint& first = seq.front();
