@@ -15,7 +15,9 @@ namespace {
 double logistic_cost(double k, double exponent) { return k / (1.0 + std::exp(exponent)); }
 
 // Islands (4-connected same-style pieces under min_area_px) take the style they share the most
-// border with; repeated while something changes (at most a few rounds).
+// border with. One pass over the styles suffices: absorbing an island of style s only grows
+// pieces of other styles (never leaves a new small piece), and every small piece of a style is
+// absorbed on that style's turn, so a second pass would find nothing to change.
 void absorb_islands(cv::Mat1b& style, const cv::Mat1b& mask, int min_area_px) {
   // One style alone has no islands (its only piece is the whole component): skip the scans.
   bool present[kStyleCount] = {false, false, false};
@@ -25,37 +27,32 @@ void absorb_islands(cv::Mat1b& style, const cv::Mat1b& mask, int min_area_px) {
       if (s[x] < kStyleCount) present[s[x]] = true;
   }
   if (present[0] + present[1] + present[2] <= 1) return;
-  for (int round = 0; round < 4; ++round) {
-    bool changed = false;
-    for (int s = 0; s < kStyleCount; ++s) {
-      cv::Mat1b sm = style == s;
-      if (cv::countNonZero(sm) == 0) continue;
-      cv::Mat1i lab;
-      cv::Mat stats, centroids;
-      const int n = cv::connectedComponentsWithStats(sm, lab, stats, centroids, 4, CV_32S);
-      for (int i = 1; i < n; ++i) {
-        if (stats.at<int>(i, cv::CC_STAT_AREA) >= min_area_px) continue;
-        const cv::Rect box(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
-                           stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
-        int border[kStyleCount] = {0, 0, 0};
-        for (int y = box.y; y < box.br().y; ++y)
-          for (int x = box.x; x < box.br().x; ++x) {
-            if (lab(y, x) != i) continue;
-            const cv::Point nb[4] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
-            for (const cv::Point& q : nb)
-              if (q.x >= 0 && q.y >= 0 && q.x < mask.cols && q.y < mask.rows && mask(q) &&
-                  style(q) != s)
-                ++border[style(q)];
-          }
-        const int best = static_cast<int>(std::max_element(border, border + kStyleCount) - border);
-        if (border[best] == 0) continue;  // the whole component: nothing to join
-        for (int y = box.y; y < box.br().y; ++y)
-          for (int x = box.x; x < box.br().x; ++x)
-            if (lab(y, x) == i) style(y, x) = static_cast<uchar>(best);
-        changed = true;
-      }
+  for (int s = 0; s < kStyleCount; ++s) {
+    cv::Mat1b sm = style == s;
+    if (cv::countNonZero(sm) == 0) continue;
+    cv::Mat1i lab;
+    cv::Mat stats, centroids;
+    const int n = cv::connectedComponentsWithStats(sm, lab, stats, centroids, 4, CV_32S);
+    for (int i = 1; i < n; ++i) {
+      if (stats.at<int>(i, cv::CC_STAT_AREA) >= min_area_px) continue;
+      const cv::Rect box(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
+                         stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
+      int border[kStyleCount] = {0, 0, 0};
+      for (int y = box.y; y < box.br().y; ++y)
+        for (int x = box.x; x < box.br().x; ++x) {
+          if (lab(y, x) != i) continue;
+          const cv::Point nb[4] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
+          for (const cv::Point& q : nb)
+            if (q.x >= 0 && q.y >= 0 && q.x < mask.cols && q.y < mask.rows && mask(q) &&
+                style(q) != s)
+              ++border[style(q)];
+        }
+      const int best = static_cast<int>(std::max_element(border, border + kStyleCount) - border);
+      if (border[best] == 0) continue;  // the whole component: nothing to join
+      for (int y = box.y; y < box.br().y; ++y)
+        for (int x = box.x; x < box.br().x; ++x)
+          if (lab(y, x) == i) style(y, x) = static_cast<uchar>(best);
     }
-    if (!changed) break;
   }
 }
 

@@ -38,11 +38,16 @@ StrokeWidths stroke_widths(const cv::Mat1b& mask, cv::Point origin, cv::Size ima
   StrokeWidths out;
   const int W = mask.cols, H = mask.rows;
   auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H && mask(y, x) != 0; };
+  // Row pointers instead of bounds-checked lookups: this loop visits the whole bounding box.
   for (int y = 0; y < H; ++y) {
     const uchar* row = mask[y];
-    for (int x = 0; x < W; ++x)
-      if (row[x] && !(inside(x - 1, y) && inside(x + 1, y) && inside(x, y - 1) && inside(x, y + 1)))
-        out.contour.emplace_back(x, y);
+    const uchar* up = y > 0 ? mask[y - 1] : nullptr;
+    const uchar* down = y + 1 < H ? mask[y + 1] : nullptr;
+    for (int x = 0; x < W; ++x) {
+      if (!row[x]) continue;
+      const bool interior = x > 0 && x + 1 < W && row[x - 1] && row[x + 1] && up && up[x] && down && down[x];
+      if (!interior) out.contour.emplace_back(x, y);
+    }
   }
   out.width.assign(out.contour.size(), 0.f);
   const float cos_limit = static_cast<float>(std::cos(std::numbers::pi / 6));
