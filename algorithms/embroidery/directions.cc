@@ -33,8 +33,9 @@ double across_direction(const cv::Mat1b& mask, bool* ok) {
     for (int x = 0; x < p.cols; ++x) {
       const double a = gx(y, x), b = gy(y, x);
       // (a + ib)^2 / |.| weighs each gradient by its magnitude, on the doubled angle.
-      const double m = std::hypot(a, b);
-      if (m <= 0) continue;
+      const double m2 = a * a + b * b;   // most pixels are flat: no square root for them
+      if (m2 <= 0) continue;
+      const double m = std::sqrt(m2);
       c += (a * a - b * b) / m;
       s += 2 * a * b / m;
     }

@@ -1,6 +1,8 @@
 #include "algorithms/embroidery/uv_map.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -22,16 +24,23 @@ cv::Mat1i nearest_point_index(cv::Size size, const std::vector<cv::Point2f>& poi
   cv::Mat1f dist;
   cv::Mat1i labels;
   cv::distanceTransform(src, dist, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-  // Labels are numbered per seed pixel; read each seed's own label to map it to its point.
+  // Labels are numbered per seed pixel (1..seeds); read each seed's own label to map it to its
+  // point. Only the seeds are visited for that, not the whole box.
+  std::vector<cv::Point> seeds;
+  seeds.reserve(points.size());
+  for (const cv::Point2f& q : points) {
+    const int x = static_cast<int>(std::lround(q.x)), y = static_cast<int>(std::lround(q.y));
+    if (x >= 0 && y >= 0 && x < size.width && y < size.height) seeds.emplace_back(x, y);
+  }
   int max_label = 0;
-  for (int y = 0; y < size.height; ++y)
-    for (int x = 0; x < size.width; ++x) max_label = std::max(max_label, labels(y, x));
+  for (const cv::Point& q : seeds) max_label = std::max(max_label, labels(q));
   std::vector<int> of_label(max_label + 1, -1);
-  for (int y = 0; y < size.height; ++y)
-    for (int x = 0; x < size.width; ++x)
-      if (owner(y, x) >= 0) of_label[labels(y, x)] = owner(y, x);
-  for (int y = 0; y < size.height; ++y)
-    for (int x = 0; x < size.width; ++x) result(y, x) = of_label[labels(y, x)];
+  for (const cv::Point& q : seeds) of_label[labels(q)] = owner(q);
+  for (int y = 0; y < size.height; ++y) {
+    const int* l = labels.ptr<int>(y);
+    int* r = result.ptr<int>(y);
+    for (int x = 0; x < size.width; ++x) r[x] = l[x] >= 0 && l[x] <= max_label ? of_label[l[x]] : -1;
+  }
   return result;
 }
 
