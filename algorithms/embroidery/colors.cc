@@ -352,16 +352,69 @@ Components color_components(cv::Mat1i& color_index, int palette_size, int min_ar
     const int root = find(i);
     final_color[i] = dropped[root] ? -1 : color[root];
   }
+  // Merged pieces may join components of one colour. Every such join involves a component
+  // that was small (two others of one colour never touch: they would be one component, and
+  // only small ones change colour), and `touch` holds every border of a small one; so joining
+  // the touching pairs of equal final colour gives the components without labelling again.
+  std::vector<int> join(n);
+  std::iota(join.begin(), join.end(), 0);
+  auto root = [&](int v) {
+    while (join[v] != v) v = join[v] = join[join[v]];
+    return v;
+  };
+  for (const auto& [a, b] : touch)
+    if (final_color[a] >= 0 && final_color[a] == final_color[b]) {
+      const int ra = root(a), rb = root(b);
+      if (ra != rb) join[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  // Each joined component's first pixel in raster order (a component's first pixel lies in
+  // the top row of its box), to number them by colour, then raster order, as labelling would.
+  std::vector<long> first(n, -1);
+  for (int i = 0; i < n; ++i) {
+    const int r = root(i);
+    if (final_color[r] < 0) continue;
+    const cv::Rect& b = c.bbox[i];
+    const int* row = c.id[b.y];
+    int x = b.x;
+    while (row[x] != i) ++x;
+    const long f = static_cast<long>(b.y) * W + x;
+    if (first[r] < 0 || f < first[r]) first[r] = f;
+  }
+  std::vector<int> roots;
+  for (int i = 0; i < n; ++i)
+    if (root(i) == i && final_color[i] >= 0) roots.push_back(i);
+  std::sort(roots.begin(), roots.end(), [&](int a, int b) {
+    return final_color[a] != final_color[b] ? final_color[a] < final_color[b] : first[a] < first[b];
+  });
+  Components out;
+  std::vector<int> new_id(n, -1);
+  for (int r : roots) {
+    new_id[r] = static_cast<int>(out.color.size());
+    out.color.push_back(final_color[r]);
+    out.area_px.push_back(0);
+    out.bbox.emplace_back();
+  }
+  for (int i = 0; i < n; ++i) {
+    const int r = root(i);
+    if (final_color[r] < 0) continue;
+    new_id[i] = new_id[r];
+    out.area_px[new_id[i]] += c.area_px[i];
+    cv::Rect& b = out.bbox[new_id[i]];
+    b = b.empty() ? c.bbox[i] : (b | c.bbox[i]);
+  }
+  out.id = std::move(c.id);
   cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
-      const int* id = c.id[y];
+      int* id = out.id[y];
       int* ci = color_index[y];
       for (int x = 0; x < W; ++x)
-        if (id[x] >= 0) ci[x] = final_color[id[x]];
+        if (id[x] >= 0) {
+          ci[x] = final_color[id[x]];
+          id[x] = new_id[id[x]];
+        }
     }
   });
-  // Merged pieces may join components of the same colour: label once more.
-  return label_components(color_index, palette_size);
+  return out;
 }
 
 }  // namespace atelier::embroidery
