@@ -199,8 +199,12 @@ Expansion expand(const LabelProblem& p, std::vector<int> f) {
   out.energy = labelling_energy(p, f);  // also checks f
   std::vector<int> var(p.nodes);
   int unchanged = 0;  // consecutive alphas without an accepted move
+  int last = -1;      // the alpha of the last accepted move
   for (int alpha = 0; unchanged < L; alpha = (alpha + 1) % L) {
     ++unchanged;
+    // Back at the last accepted alpha with nothing changed since: f is that move's optimum, and
+    // every alpha-expansion of f is also one of the labelling it came from, so none is better.
+    if (alpha == last) continue;
     // Label costs (Delong et al. 2012) make the move's energy higher-order: label l != alpha
     // costs c_l unless all its nodes take alpha. The exact move is the best over which of the
     // used, costed labels vanish: for each choice, those labels' nodes are fixed to alpha and
@@ -227,6 +231,7 @@ Expansion expand(const LabelProblem& p, std::vector<int> f) {
       out.energy = best_e;
       ++out.moves;
       unchanged = 0;
+      last = alpha;
     }
   }
   out.labels = std::move(f);
