@@ -95,11 +95,15 @@ LabelProblem block_problem(const cv::Mat1b& mask, const StrokeWidths& widths, co
     not_c(q) = 0;
     any_c = true;
   }
-  std::vector<std::uint64_t> keys;
+  // (group pair, count) runs: neighbouring pixels mostly link the same two blocks, so counting
+  // repeats as they come leaves far fewer entries to sort.
+  std::vector<std::pair<std::uint64_t, int>> keys;
   auto link = [&](int ga, int gb) {
     if (ga == gb) return;
     const std::uint64_t a = static_cast<std::uint32_t>(ga), b = static_cast<std::uint32_t>(gb);
-    keys.push_back(std::min(a, b) << 32 | std::max(a, b));
+    const std::uint64_t key = std::min(a, b) << 32 | std::max(a, b);
+    if (!keys.empty() && keys.back().first == key) ++keys.back().second;
+    else keys.emplace_back(key, 1);
   };
   // 4-neighbours across a vertical block boundary (x, x + 1) and a horizontal one (y, y + 1).
   for (int y = 0; y < mask.rows; ++y) {
@@ -133,9 +137,10 @@ LabelProblem block_problem(const cv::Mat1b& mask, const StrokeWidths& widths, co
   std::sort(keys.begin(), keys.end());
   for (size_t i = 0; i < keys.size();) {
     size_t j = i;
-    while (j < keys.size() && keys[j] == keys[i]) ++j;
-    c.edges.push_back({static_cast<int>(keys[i] >> 32), static_cast<int>(keys[i] & 0xffffffffu),
-                       static_cast<double>(j - i)});
+    long count = 0;
+    while (j < keys.size() && keys[j].first == keys[i].first) count += keys[j++].second;
+    const std::uint64_t key = keys[i].first;
+    c.edges.push_back({static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), static_cast<double>(count)});
     i = j;
   }
   return c;
