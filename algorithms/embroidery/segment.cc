@@ -18,21 +18,23 @@ struct ComponentResult {
 // The component's regions: 4-connected pieces of each style within its bounding box.
 void cut_regions(const cv::Mat1b& style, const cv::Mat1b& mask, int area_px, const cv::Rect& box,
                  int component, int color, ComponentResult& out) {
-  // Most components get one style: then the one region is the (4-connected) component itself.
-  int first = -1;
-  bool single = true;
-  for (int y = 0; y < style.rows && single; ++y) {
+  // Each style's bounding box within the component's (labelling only there).
+  int x0[kStyleCount], y0[kStyleCount], x1[kStyleCount], y1[kStyleCount];
+  for (int k = 0; k < kStyleCount; ++k) x0[k] = style.cols, y0[k] = style.rows, x1[k] = y1[k] = -1;
+  for (int y = 0; y < style.rows; ++y) {
     const uchar *s = style[y], *m = mask[y];
     for (int x = 0; x < style.cols; ++x)
-      if (m[x]) {
-        if (first < 0) first = s[x];
-        else if (s[x] != first) {
-          single = false;
-          break;
-        }
+      if (m[x] && s[x] < kStyleCount) {
+        const int k = s[x];
+        x0[k] = std::min(x0[k], x), x1[k] = std::max(x1[k], x);
+        y0[k] = std::min(y0[k], y), y1[k] = std::max(y1[k], y);
       }
   }
-  if (single && first >= 0) {
+  int present = 0, first = -1;
+  for (int k = 0; k < kStyleCount; ++k)
+    if (x1[k] >= 0) ++present, first = first < 0 ? k : first;
+  if (present == 1) {
+    // One style: the one region is the (4-connected) component itself.
     Region r;
     r.color = color;
     r.component = component;
@@ -44,8 +46,9 @@ void cut_regions(const cv::Mat1b& style, const cv::Mat1b& mask, int area_px, con
     return;
   }
   for (int s = 0; s < kStyleCount; ++s) {
-    cv::Mat1b sm = style == s;
-    if (cv::countNonZero(sm) == 0) continue;
+    if (x1[s] < 0) continue;
+    const cv::Rect sub(x0[s], y0[s], x1[s] - x0[s] + 1, y1[s] - y0[s] + 1);
+    cv::Mat1b sm = style(sub) == s;
     cv::Mat1i lab;
     cv::Mat stats, centroids;
     const int n = cv::connectedComponentsWithStats(sm, lab, stats, centroids, 4, CV_32S);
@@ -56,7 +59,7 @@ void cut_regions(const cv::Mat1b& style, const cv::Mat1b& mask, int area_px, con
       r.style = Style(s);
       const cv::Rect local(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
                            stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
-      r.bbox = local + box.tl();
+      r.bbox = local + sub.tl() + box.tl();
       r.mask = lab(local) == i;
       r.area_px = stats.at<int>(i, cv::CC_STAT_AREA);
       out.regions.push_back(std::move(r));

@@ -28,15 +28,26 @@ void absorb_islands(cv::Mat1b& style, const cv::Mat1b& mask, int min_area_px) {
   }
   if (present[0] + present[1] + present[2] <= 1) return;
   for (int s = 0; s < kStyleCount; ++s) {
-    cv::Mat1b sm = style == s;
-    if (cv::countNonZero(sm) == 0) continue;
-    cv::Mat1i lab;
+    // Label on the style's own bounding box (taken now: earlier styles' islands may have joined it).
+    int x0 = style.cols, y0 = style.rows, x1 = -1, y1 = -1;
+    for (int y = 0; y < style.rows; ++y) {
+      const uchar* r = style[y];
+      for (int x = 0; x < style.cols; ++x)
+        if (r[x] == s) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = y;
+    }
+    if (x1 < 0) continue;
+    const cv::Rect sub(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+    cv::Mat1b sm = style(sub) == s;
+    cv::Mat1i lab_sub;
     cv::Mat stats, centroids;
-    const int n = cv::connectedComponentsWithStats(sm, lab, stats, centroids, 4, CV_32S);
+    const int n = cv::connectedComponentsWithStats(sm, lab_sub, stats, centroids, 4, CV_32S);
+    // Island boxes below are in the component's box; every island pixel lies inside sub.
+    auto lab = [&](int y, int x) { return lab_sub(y - sub.y, x - sub.x); };
     for (int i = 1; i < n; ++i) {
       if (stats.at<int>(i, cv::CC_STAT_AREA) >= min_area_px) continue;
-      const cv::Rect box(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
-                         stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
+      const cv::Rect box = cv::Rect(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
+                                    stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT)) +
+                           sub.tl();
       int border[kStyleCount] = {0, 0, 0};
       for (int y = box.y; y < box.br().y; ++y)
         for (int x = box.x; x < box.br().x; ++x) {
