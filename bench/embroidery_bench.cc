@@ -3,8 +3,10 @@
 // The paper: 0.88 s for 388x272 (170 regions), 6.4 s for 600x400, 21.4 s for 1600x1600 on a
 // 3.6 GHz CPU with OpenMP. Target: 10x faster on 2 cores; 1600x1600 under 2 s.
 // Each case prints its size, region count and stitch count. Images are real photographs and
-// a painting from tests/data resized to the size; the design is 8 px per mm (no resampling
-// inside the pipeline), on a hoop large enough for it.
+// a painting from tests/data resized to the size. BM_EmbroideryDesign works on every pixel
+// (the design is 10 px per mm, the files' unit, so nothing is resampled), on a hoop large
+// enough for it; BM_EmbroideryDefault is what a user gets dropping the image with the default
+// width_mm = 100 (the pipeline works at most at 10 px/mm: 1000x1000 for a 1600 px image).
 #include <benchmark/benchmark.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -34,7 +36,7 @@ void BM_EmbroideryDesign(benchmark::State& state) {
   const cv::Mat img = image(static_cast<int>(state.range(2)), cols, rows);
   const emb::TextureSet textures = emb::procedural_textures();
   emb::DesignParams p;
-  p.width_mm = cols / 8.0;
+  p.width_mm = cols / 10.0;
   p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 400;
   size_t regions = 0, stitches = 0;
   for (auto _ : state) {
@@ -48,12 +50,42 @@ void BM_EmbroideryDesign(benchmark::State& state) {
   state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " " + kImages[state.range(2)]);
 }
 
+// Args: columns, rows, image; default parameters (100 mm wide) on a 130 mm hoop.
+void BM_EmbroideryDefault(benchmark::State& state) {
+  const int cols = static_cast<int>(state.range(0)), rows = static_cast<int>(state.range(1));
+  const cv::Mat img = image(static_cast<int>(state.range(2)), cols, rows);
+  const emb::TextureSet textures = emb::procedural_textures();
+  emb::DesignParams p;
+  p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 130;
+  size_t regions = 0, stitches = 0;
+  cv::Size work;
+  for (auto _ : state) {
+    const emb::Design d = emb::make_design(img, textures, p);
+    regions = d.segmentation.regions.size();
+    stitches = static_cast<size_t>(emb::stitch_stats(d.plan).stitches);
+    work = d.work_size;
+  }
+  state.counters["regions"] = static_cast<double>(regions);
+  state.counters["stitches"] = static_cast<double>(stitches);
+  state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " " + kImages[state.range(2)] +
+                 " worked at " + std::to_string(work.width) + "x" + std::to_string(work.height));
+}
+
+BENCHMARK(BM_EmbroideryDefault)
+    ->Args({1600, 1600, 0})
+    ->Args({1600, 1600, 1})
+    ->Args({1600, 1600, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
+
 BENCHMARK(BM_EmbroideryDesign)
     ->Args({388, 272, 0})
     ->Args({388, 272, 2})
     ->Args({600, 400, 1})
     ->Args({600, 400, 2})
     ->Args({875, 739, 2})
+    ->Args({1600, 1600, 0})
     ->Args({1600, 1600, 1})
     ->Args({1600, 1600, 2})
     ->Unit(benchmark::kMillisecond)

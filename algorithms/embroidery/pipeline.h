@@ -4,8 +4,9 @@
 //
 // Size (paper 6): the design is width_mm wide; the image is worked on at px_per_mm =
 // its width in pixels / width_mm, clamped to [min_px_per_mm, max_px_per_mm] by resizing it
-// first (a small logo is enlarged so satin columns have pixels to measure; a huge photo is
-// reduced, since a needle cannot place detail finer than a thread anyway). The label widths eW
+// first (a small logo is enlarged so satin columns have pixels to measure; a large photo is
+// reduced to 10 px/mm, the stitch files' 0.1 mm unit: finer detail cannot be sewn, a thread
+// is 0.4 mm wide). The label widths eW
 // and sW, the region dilation and the minimum region area are given in mm and converted here.
 //
 // Pure: no I/O, no clocks. Thread-safe (separate calls share nothing); uses OpenCV's threads.
@@ -26,7 +27,7 @@ namespace atelier::embroidery {
 
 struct DesignParams {
   double width_mm = 100;             // the design's width; its height follows the image
-  double min_px_per_mm = 4, max_px_per_mm = 16;   // working resolution bounds
+  double min_px_per_mm = 4, max_px_per_mm = 10;   // working resolution bounds
   double min_region_mm2 = 1.0;       // smaller single-colour specks join a neighbour
   double eW_mm = 1.0, sW_mm = 6.0;   // the paper's eW and sW as physical widths
   double overlap_mm = 0.25;          // neighbouring regions are sewn this far into each other
