@@ -199,23 +199,9 @@ std::vector<StitchPoint> edge_region(const cv::Mat1b& mask, cv::Point2f offset_p
   cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
   std::vector<bool> done(branches.size(), false);
   for (size_t k = 0; k < branches.size(); ++k) {
-    // Nearest branch end from the needle.
-    size_t best = 0;
-    bool reverse = false;
-    double best_d = 1e18;
-    for (size_t i = 0; i < branches.size(); ++i) {
-      if (done[i]) continue;
-      const cv::Point2f here = sink.empty() ? branches[i].pixels.front() : sink.last();
-      const double d0 = cv::norm(branches[i].pixels.front() - here), d1 = cv::norm(branches[i].pixels.back() - here);
-      if (std::min(d0, d1) < best_d) {
-        best_d = std::min(d0, d1);
-        best = i;
-        reverse = d1 < d0;
-      }
-    }
-    done[best] = true;
-    SkeletonBranch b = branches[best];
-    if (reverse) std::reverse(b.pixels.begin(), b.pixels.end());
+    cv::Point2f needle;
+    if (!sink.empty()) needle = sink.last();
+    const SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
     // Stroke width: twice the mean distance to the background along the centre line (the
     // distance at a centre pixel is half the width plus about half a pixel).
     double sum = 0;

@@ -88,18 +88,9 @@ std::vector<StitchPoint> satin_region(const cv::Mat1b& mask, cv::Point2f offset_
   std::vector<bool> done(branches.size(), false);
   bool sewn = false;
   for (size_t k = 0; k < branches.size(); ++k) {
-    size_t best = 0;
-    bool reverse = false;
-    double best_d = 1e18;
-    for (size_t i = 0; i < branches.size(); ++i) {
-      if (done[i]) continue;
-      const cv::Point2f here = sink.empty() ? branches[i].pixels.front() : sink.last();
-      const double d0 = cv::norm(branches[i].pixels.front() - here), d1 = cv::norm(branches[i].pixels.back() - here);
-      if (std::min(d0, d1) < best_d) best_d = std::min(d0, d1), best = i, reverse = d1 < d0;
-    }
-    done[best] = true;
-    SkeletonBranch b = branches[best];
-    if (reverse) std::reverse(b.pixels.begin(), b.pixels.end());
+    cv::Point2f needle;
+    if (!sink.empty()) needle = sink.last();
+    SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
     // Extend by the stroke's half width at the ends: thinning stops that far short of a tip.
     const cv::Point2f e0 = b.pixels.front(), e1 = b.pixels.back();
     const double extend = std::max(dist(cvRound(e0.y), cvRound(e0.x)), dist(cvRound(e1.y), cvRound(e1.x)));

@@ -569,4 +569,25 @@ SampledCurve fit_bspline(const SkeletonBranch& branch, double step_px, double ex
   return out;
 }
 
+SkeletonBranch next_branch(const std::vector<SkeletonBranch>& branches, std::vector<bool>& done,
+                           const cv::Point2f* from) {
+  size_t best = 0;
+  bool reverse = false;
+  double best_d = 1e18;
+  for (size_t i = 0; i < branches.size(); ++i) {
+    if (done[i]) continue;
+    const cv::Point2f here = from ? *from : branches[i].pixels.front();
+    const double d0 = cv::norm(branches[i].pixels.front() - here), d1 = cv::norm(branches[i].pixels.back() - here);
+    if (std::min(d0, d1) < best_d) {
+      best_d = std::min(d0, d1);
+      best = i;
+      reverse = d1 < d0;
+    }
+  }
+  done[best] = true;
+  SkeletonBranch b = branches[best];
+  if (reverse) std::reverse(b.pixels.begin(), b.pixels.end());
+  return b;
+}
+
 }  // namespace atelier::embroidery

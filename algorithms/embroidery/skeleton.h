@@ -36,4 +36,10 @@ struct SampledCurve {
 };
 SampledCurve fit_bspline(const SkeletonBranch& branch, double step_px, double extend_px);
 
+// The stitch generators' sewing order: the branch not yet `done` with an end nearest to `from`
+// (or, with no needle position yet, the first such branch), marked done and returned oriented
+// to start at that end. `done` has one flag per branch and at least one is false.
+SkeletonBranch next_branch(const std::vector<SkeletonBranch>& branches, std::vector<bool>& done,
+                           const cv::Point2f* from);
+
 }  // namespace atelier::embroidery

@@ -78,12 +78,7 @@ RegionUV uv_edge(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, d
     return n <= 1 ? 0 : std::min(count - 1, o.index * count / std::max(1, n - 1));
   };
 
-  RegionUV out;
-  out.box = box;
-  out.mask = mask.clone();
-  out.uv = cv::Mat2f(mask.size(), cv::Vec2f(0, 0));
-  out.angle = cv::Mat1f(mask.size(), static_cast<float>(direction));
-  out.direction = static_cast<float>(direction);
+  RegionUV out = region_uv_with_angles(box, mask, direction);
   for (int y = 0; y < mask.rows; ++y)
     for (int x = 0; x < mask.cols; ++x) {
       if (!mask(y, x)) continue;

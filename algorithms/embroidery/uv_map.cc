@@ -44,4 +44,14 @@ cv::Mat1i nearest_point_index(cv::Size size, const std::vector<cv::Point2f>& poi
   return result;
 }
 
+RegionUV region_uv_with_angles(const cv::Rect& box, const cv::Mat1b& mask, double direction) {
+  RegionUV out;
+  out.box = box;
+  out.mask = mask.clone();
+  out.uv = cv::Mat2f(mask.size(), cv::Vec2f(0, 0));
+  out.angle = cv::Mat1f(mask.size(), static_cast<float>(direction));
+  out.direction = static_cast<float>(direction);
+  return out;
+}
+
 }  // namespace atelier::embroidery

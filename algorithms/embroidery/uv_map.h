@@ -21,6 +21,10 @@ struct RegionUV {
   float angle_at(int y, int x) const { return angle.empty() ? direction : angle(y, x); }
 };
 
+// A RegionUV over `box` for the pixels of `mask`, UVs zero, every pixel at `direction` in a
+// per-pixel angle map (the satin and edge maps set each pixel's own angle).
+RegionUV region_uv_with_angles(const cv::Rect& box, const cv::Mat1b& mask, double direction);
+
 // For every pixel of an image of `size`, the index into `points` of the nearest point (points
 // are in that image's pixel frame and rounded onto its grid; points outside are ignored; of two
 // points on one pixel the first wins), or -1 everywhere when no point lies inside. One

@@ -141,12 +141,7 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
   }
 
   // 6: u along the pairs' lines, v from their order, blended with eq. 7.
-  RegionUV out;
-  out.box = box;
-  out.mask = mask.clone();
-  out.uv = cv::Mat2f(mask.size(), cv::Vec2f(0, 0));
-  out.angle = cv::Mat1f(mask.size(), static_cast<float>(direction));
-  out.direction = static_cast<float>(direction);
+  RegionUV out = region_uv_with_angles(box, mask, direction);
   const float window = static_cast<float>(std::max(3.0, 0.5 * tile_h_px));
   bool missing = false;
   cv::Point2f last_t(0, 0);
