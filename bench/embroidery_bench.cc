@@ -5,8 +5,9 @@
 // Each case prints its size, region count and stitch count. Images are real photographs and
 // a painting from tests/data resized to the size. BM_EmbroideryDesign works on every pixel
 // (the design is 10 px per mm, the files' unit, so nothing is resampled), on a hoop large
-// enough for it; BM_EmbroideryDefault is what a user gets dropping the image with the default
-// width_mm = 100 (the pipeline works at most at 10 px/mm: 1000x1000 for a 1600 px image).
+// enough for it; BM_EmbroideryDefault is what a user gets dropping the image for a 100 mm
+// design with the other parameters at their defaults (the pipeline works at most at 10 px/mm:
+// 1000x1000 for a 1600 px image).
 #include <benchmark/benchmark.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -50,12 +51,13 @@ void BM_EmbroideryDesign(benchmark::State& state) {
   state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " " + kImages[state.range(2)]);
 }
 
-// Args: columns, rows, image; default parameters (100 mm wide) on a 130 mm hoop.
+// Args: columns, rows, image; 100 mm wide, other parameters default, on a 130 mm hoop.
 void BM_EmbroideryDefault(benchmark::State& state) {
   const int cols = static_cast<int>(state.range(0)), rows = static_cast<int>(state.range(1));
   const cv::Mat img = image(static_cast<int>(state.range(2)), cols, rows);
   const emb::TextureSet textures = emb::procedural_textures();
   emb::DesignParams p;
+  p.width_mm = 100;
   p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 130;
   size_t regions = 0, stitches = 0;
   cv::Size work;

@@ -26,7 +26,11 @@
 namespace atelier::embroidery {
 
 struct DesignParams {
-  double width_mm = 100;             // the design's width; its height follows the image
+  double width_mm = 0;               // the design's width; its height follows the image.
+                                     // 0 = as large as fits the hoop with hoop_margin_mm
+                                     // on every side
+  double hoop_margin_mm = 5;         // room left for pull compensation and overlap
+  double max_work_pixels = 16e6;     // the working image is reduced below this
   double min_px_per_mm = 4, max_px_per_mm = 10;   // working resolution bounds
   double min_region_mm2 = 1.0;       // smaller single-colour specks join a neighbour
   double eW_mm = 1.0, sW_mm = 6.0;   // the paper's eW and sW as physical widths
@@ -47,10 +51,14 @@ struct Design {
   StitchPlan plan;                   // mm, origin at the design's centre
 };
 
-// Throws std::invalid_argument (empty image, bad parameters) and HoopTooSmall.
+// Throws std::invalid_argument (empty image, bad parameters) and HoopTooSmall (also before
+// any work when width_mm x its height is already larger than the hoop).
 Design make_design(const cv::Mat& image, const TextureSet& textures, const DesignParams& params);
 
-// The working resolution make_design() uses for an image `cols` pixels wide.
-double working_px_per_mm(int cols, const DesignParams& params);
+// The design's width in mm for an image of `size`: width_mm, or the fit to the hoop.
+double design_width_mm(cv::Size size, const DesignParams& params);
+
+// The working resolution make_design() uses for an image of `size` sewn `width_mm` wide.
+double working_px_per_mm(cv::Size size, double width_mm, const DesignParams& params);
 
 }  // namespace atelier::embroidery

@@ -17,8 +17,6 @@ namespace emb = embroidery;
 
 namespace {
 
-const char* const kStyleFiles[emb::kStyleCount] = {"long_short", "satin", "edge"};
-
 std::string hex_rgb(const cv::Vec3b& bgr) {
   char buf[8];
   std::snprintf(buf, sizeof buf, "#%02x%02x%02x", bgr[2], bgr[1], bgr[0]);
@@ -79,17 +77,24 @@ emb::ReferenceTexture load_texture(const fs::path& image_file, const fs::path& n
 
 }  // namespace
 
-emb::TextureSet load_textures(const fs::path& folder, double dpi) {
+LoadedTextures load_textures(const fs::path& folder, double dpi) {
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw ConvertError(folder.string() + ": the textures folder does not exist");
-  emb::TextureSet set = emb::procedural_textures();
+  LoadedTextures out{emb::procedural_textures(), {}};
   for (int s = 0; s < emb::kStyleCount; ++s) {
-    const fs::path image = folder / (std::string(kStyleFiles[s]) + ".png");
+    const std::string style = emb::style_name(static_cast<emb::Style>(s));
+    const fs::path image = folder / (style + ".png");
+    out.sources[s] = "procedural";
     if (!fs::exists(image)) continue;
-    set.style[s] = load_texture(image, folder / (std::string(kStyleFiles[s]) + ".normal.png"), dpi);
+    try {
+      out.set.style[s] = load_texture(image, folder / (style + ".normal.png"), dpi);
+    } catch (const ConvertError& e) {
+      throw ConvertError(folder.string() + "/" + e.what());
+    }
+    out.sources[s] = image.string();
   }
-  return set;
+  return out;
 }
 
 ConvertResult convert_embroidery(const ConvertRequest& req) {
@@ -101,17 +106,20 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
     throw ConvertError(name + ": expected an 8-bit grey, colour or colour+alpha image");
   cv::Mat input = image;
   if (image.channels() == 1) cv::cvtColor(image, input, cv::COLOR_GRAY2BGR);
-  const emb::TextureSet textures =
-      params.textures ? load_textures(*params.textures, params.texture_dpi) : emb::procedural_textures();
+  LoadedTextures textures{emb::procedural_textures(), {"procedural", "procedural", "procedural"}};
+  if (params.textures) textures = load_textures(*params.textures, params.texture_dpi);
   report_progress(req, 0.1);
 
   emb::Design design;
   try {
-    design = emb::make_design(input, textures, params.design);
+    design = emb::make_design(input, textures.set, params.design);
   } catch (const emb::HoopTooSmall& e) {
     throw ConvertError(name + ": " + e.what());
   }
   report_progress(req, 0.8);
+  if (emb::stitch_stats(design.plan).stitches == 0)
+    throw ConvertError(name + ": nothing to sew: no region of the image is large enough to stitch "
+                       "(an empty or white image, or specks under min_region_mm2)");
   design.plan.name = req.input.stem().string();
 
   fs::create_directories(req.output_dir);
@@ -139,18 +147,16 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   }
   nlohmann::json threads = nlohmann::json::array();
   for (size_t i = 0; i < design.plan.colors_rgb.size(); ++i) {
-    char buf[8];
-    std::snprintf(buf, sizeof buf, "#%06x", design.plan.colors_rgb[i] & 0xffffffu);
-    threads.push_back({{"rgb", buf}, {"stitches", i < block_stitches.size() ? block_stitches[i] : 0}});
+    const std::uint32_t c = design.plan.colors_rgb[i];
+    threads.push_back({{"rgb", hex_rgb(cv::Vec3b(c & 0xff, (c >> 8) & 0xff, (c >> 16) & 0xff))},
+                       {"stitches", i < block_stitches.size() ? block_stitches[i] : 0}});
   }
   nlohmann::json palette = nlohmann::json::array();
   for (const cv::Vec3b& c : seg.palette.bgr) palette.push_back(hex_rgb(c));
   const emb::StitchStats st = emb::stitch_stats(design.plan);
   nlohmann::json textures_used = nlohmann::json::object();
-  for (int s = 0; s < emb::kStyleCount; ++s) {
-    const fs::path file = params.textures ? *params.textures / (std::string(kStyleFiles[s]) + ".png") : fs::path();
-    textures_used[kStyleFiles[s]] = params.textures && fs::exists(file) ? file.string() : "procedural";
-  }
+  for (int s = 0; s < emb::kStyleCount; ++s)
+    textures_used[emb::style_name(static_cast<emb::Style>(s))] = textures.sources[s];
   const emb::StitchParams& sp = params.design.stitches;
   nlohmann::json report = {
       {"kind", "embroidery"},

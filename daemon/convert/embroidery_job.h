@@ -22,6 +22,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "algorithms/embroidery/textures.h"
 #include "daemon/convert/convert.h"
@@ -32,8 +33,13 @@ namespace atelier {
 // larger than the hoop, output files).
 ConvertResult convert_embroidery(const ConvertRequest& request);
 
-// The procedural textures with the styles found in `folder` replaced (see above). Throws
-// ConvertError naming the file for a missing folder or an unreadable or inconsistent texture.
-embroidery::TextureSet load_textures(const std::filesystem::path& folder, double dpi);
+// The procedural textures with the styles found in `folder` replaced (see above), and per
+// style where it came from (the file, or "procedural"). Throws ConvertError naming the file
+// for a missing folder or an unreadable or inconsistent texture.
+struct LoadedTextures {
+  embroidery::TextureSet set;
+  std::string sources[embroidery::kStyleCount];
+};
+LoadedTextures load_textures(const std::filesystem::path& folder, double dpi);
 
 }  // namespace atelier

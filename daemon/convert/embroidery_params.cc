@@ -8,7 +8,8 @@ EmbroideryParams read_embroidery_params(const toml::table& table, const std::str
   TableReader r(table, source, "");
   EmbroideryParams p;
   embroidery::DesignParams& d = p.design;
-  d.width_mm = r.get_double("width_mm", d.width_mm, 5, 2000);
+  d.width_mm = r.get_double("width_mm", d.width_mm, 0, 2000);
+  if (d.width_mm > 0 && d.width_mm < 5) r.fail("width_mm", "a design is at least 5 mm wide (0 = fit the hoop)");
   if (r.has("colors")) {
     const toml::node& node = *table.get("colors");
     if (auto word = node.value_exact<std::string>()) {
@@ -51,15 +52,20 @@ EmbroideryParams read_embroidery_params(const toml::table& table, const std::str
   s.satin_underlay = r.get_bool("satin_underlay", s.satin_underlay);
   s.running_stitch_mm = r.get_double("running_stitch_mm", s.running_stitch_mm, 0.5, 12);
   s.edge_satin_min_mm = r.get_double("edge_satin_min_mm", s.edge_satin_min_mm, 0, 10);
-  s.trim_jump_mm = r.get_double("trim_jump_mm", s.trim_jump_mm, 0.5, 100);
+  // Moves up to trim_jump_mm are sewn as one stitch: no longer than a DST record may be.
+  s.trim_jump_mm = r.get_double("trim_jump_mm", s.trim_jump_mm, 0.5, 12);
   s.hoop_width_mm = r.get_double("hoop_width_mm", s.hoop_width_mm, 10, 2000);
   s.hoop_height_mm = r.get_double("hoop_height_mm", s.hoop_height_mm, 10, 2000);
+  // A satin span is the column plus pull compensation on both sides: one DST record at most.
+  if (s.satin_max_mm + 2 * s.satin_pull_comp_mm > 12)
+    r.fail("satin_max_mm", "satin_max_mm + 2 x satin_pull_comp_mm must be at most 12 mm (one "
+                           "stitch of a DST file), not " + std::to_string(s.satin_max_mm + 2 * s.satin_pull_comp_mm));
   if (r.has("textures")) {
     const std::string dir = r.get_string("textures", "");
     if (dir.empty()) r.fail("textures", "expected a folder of textures, not an empty string");
     p.textures = resolve_param_path(dir, *table.get("textures"));
   }
-  p.texture_dpi = r.get_double("texture_dpi", p.texture_dpi, 1e-3, 10000);
+  p.texture_dpi = r.get_double("texture_dpi", p.texture_dpi, 50, 4800);
   r.finish();
   return p;
 }

@@ -3,7 +3,8 @@
 // source, line and key).
 //
 // Keys (default, range); lengths in mm of the sewn design:
-//   width_mm = 100 [5, 2000]           the design's width; its height follows the image
+//   width_mm = 0: fit, or [5, 2000]    the design's width; its height follows the image;
+//                                      0 = as large as fits the hoop, 5 mm in from its edge
 //   colors = "auto" | 1..64            thread colours (paper 4: CIELab clustering)
 //   max_colors = 12 [1, 64]            cap for "auto"
 //   median = 3 [1, 15], odd            median filter before clustering (5 erases 2-px lines)
@@ -19,12 +20,13 @@
 //   fill_stagger = 4 [1, 16]           fill_underlay = true
 //   satin_spacing_mm = 0.4 [0.1, 5]    satin_pull_comp_mm = 0.2 [0, 2]
 //   satin_max_mm = 8 [1, 12]           satin_underlay = true
+//                                      (satin_max_mm + 2 x satin_pull_comp_mm <= 12: one stitch)
 //   running_stitch_mm = 1.5 [0.5, 12]  edge_satin_min_mm = 1 [0, 10]
-//   trim_jump_mm = 3 [0.5, 100]
+//   trim_jump_mm = 3 [0.5, 12]         longer moves between regions are jumps with a trim
 //   hoop_width_mm = 100, hoop_height_mm = 100 [10, 2000]   the machine's sewing field
 //   textures = FOLDER                  user reference textures (see embroidery_job.h);
 //                                      absent = the procedural ones
-//   texture_dpi = 600 (0, 10000]       resolution of the user textures (sets stitch length)
+//   texture_dpi = 600 [50, 4800]       resolution of the user textures (sets stitch length)
 //
 // Thread-safe (no shared state).
 #pragma once

@@ -169,6 +169,11 @@ Config from_table(const toml::table& root, const std::string& source) {
   const auto base = std::filesystem::path(source).parent_path();
   for (auto* p : {&c.spool_dir, &c.store_path, &c.socket_path})
     if (p->is_relative()) *p = base / *p;
+  for (DeviceConfig& d : c.devices)
+    if (!d.dir.empty() && std::filesystem::path(d.dir).is_relative()) d.dir = (base / d.dir).lexically_normal().string();
+  // The conversion reads its parameters from standard input, where they have no file.
+  if (auto it = c.kind_defaults.find("embroidery"); it != c.kind_defaults.end())
+    make_absolute(it->second, "textures", base);
   if (auto it = c.kind_defaults.find("parquetry"); it != c.kind_defaults.end())
     place_parquetry_wood(it->second, base, c.state_dir());
   return c;

@@ -48,18 +48,25 @@ std::string FileDropDevice::file_name(int64_t id, const std::string& input_name,
 }
 
 bool FileDropDevice::run_next() {
+  // Looked at here, on the worker thread, so describe() never waits on a hung mount.
+  folder_present_ = open_(config_.dir)->present();
   auto id = claim_ready("writing to " + config_.dir);
   if (!id) return false;
-  deliver(*id);
+  try {
+    deliver(*id);
+  } catch (const std::exception& e) {  // the store failed under us: never leave it running
+    jobs_.transition(*id, JobState::failed, config_.name + ": " + e.what());
+  }
   return true;
 }
 
 void FileDropDevice::deliver(int64_t id) {
   auto job = jobs_.store().get(id);
   if (!job) return;
-  const auto folder = open_(config_.dir);
+  std::unique_ptr<DropFolder> folder;
   std::vector<std::string> written;
   try {
+    folder = open_(config_.dir);
     if (!folder->present())
       throw DropError(config_.dir + " is missing (is the stick mounted?)", ENOENT);
     for (const std::string& format : config_.formats) {
@@ -75,7 +82,7 @@ void FileDropDevice::deliver(int64_t id) {
     jobs_.transition(id, JobState::failed,
                      config_.name + ": " + e.what() + "; nothing was left in the folder and the design "
                      "stays in done/" + std::to_string(id) + " (`atelierctl retry " +
-                     std::to_string(id) + "` delivers it again)");
+                     std::to_string(id) + "` converts and delivers it again)");
     set_last("job " + std::to_string(id) + " failed: " + e.what());
     return;
   }
@@ -88,7 +95,7 @@ void FileDropDevice::deliver(int64_t id) {
 void FileDropDevice::describe_more(nlohmann::json& out) const {
   out["dir"] = config_.dir;
   out["formats"] = config_.formats;
-  out["folder"] = open_(config_.dir)->present() ? "present" : "missing";
+  out["folder"] = folder_present_ ? "present" : "missing";
 }
 
 }  // namespace atelier

@@ -6,7 +6,8 @@
 // drivers/file_drop/drop_folder.h) | failed (the folder is missing or full, or a format the
 // conversion did not make). A failed delivery takes back the files it already wrote, so the
 // folder never holds half a job; the job's outputs stay in done/<id> (nothing is lost) and
-// `atelierctl retry ID` delivers again. Files are named "<id>-<stem>.<format>" (stem: the
+// `atelierctl retry ID` converts and delivers it again. An existing file of the same name is
+// never replaced (it fails the job: e.g. a stick written by another atelier). Files are named "<id>-<stem>.<format>" (stem: the
 // dropped file's name without extension, letters, digits, '-' and '_' only, at most 24), so
 // two designs never overwrite each other and the machine's file list shows what they are.
 // The device is always "online" (writing a file is safe and quick, so autostart defaults to
@@ -15,6 +16,7 @@
 // Threading: one worker thread (DeviceWorker); public methods are thread-safe.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -47,6 +49,7 @@ class FileDropDevice : public DeviceWorker {
   void deliver(int64_t id);
 
   FolderOpener open_;
+  std::atomic<bool> folder_present_{false};  // as the worker last saw it
 };
 
 }  // namespace atelier

@@ -1,6 +1,7 @@
 #include "drivers/file_drop/drop_folder.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <unistd.h>
@@ -48,7 +49,14 @@ void PosixDropFolder::write_atomically(const std::string& name, std::string_view
     ::unlink(tmp.c_str());
     fail(dir_, doing, err);
   }
-  if (::rename(tmp.c_str(), final_path.c_str()) != 0) {
+  // Never replace a file already there (another store's job of the same id, say).
+  int moved = ::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, final_path.c_str(), RENAME_NOREPLACE);
+  if (moved != 0 && errno == EINVAL) {  // a file system without the flag: check, then rename
+    std::error_code ec;
+    if (std::filesystem::exists(final_path, ec)) errno = EEXIST;
+    else moved = ::rename(tmp.c_str(), final_path.c_str());
+  }
+  if (moved != 0) {
     const int err = errno;
     ::unlink(tmp.c_str());
     fail(dir_, doing, err);

@@ -4,7 +4,8 @@
 // DropFolder is the OS seam: FileDropDevice (daemon/core/file_drop_device.h) writes through it
 // and tests replace it with a fake that fails like a full stick. PosixDropFolder writes each
 // file to a hidden temporary name in the same folder, fsyncs it, renames it over the final
-// name and fsyncs the folder, so a machine (or a pulled stick) never sees half a file.
+// name (never over an existing file: EEXIST) and fsyncs the folder, so a machine (or a pulled
+// stick) never sees half a file.
 //
 // Threading: one instance per caller; not shared.
 #pragma once

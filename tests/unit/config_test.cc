@@ -40,6 +40,11 @@ TEST(Config, ThreeLinesAreEnoughAndEverythingElseHasDefaults) {
 TEST(Config, RelativePathsFollowTheConfigFile) {
   Config c = parse_config("[spool]\ndir = \"spool\"\n", "/opt/demo/atelierd.toml");
   EXPECT_EQ(c.spool_dir, "/opt/demo/spool");
+  // Also a drop folder and embroidery textures (conversions read their parameters from stdin).
+  c = parse_config("[spool]\ndir = \"/s\"\n[embroidery]\ntextures = \"tex\"\n[[device]]\nname = \"emb\"\n"
+                   "driver = \"file-drop\"\ndir = \"usb\"\n", "/opt/demo/atelierd.toml");
+  EXPECT_EQ(c.devices[0].dir, "/opt/demo/usb");
+  EXPECT_EQ(c.kind_defaults["embroidery"]["textures"].value_or(std::string()), "/opt/demo/tex");
 }
 
 TEST(Config, MissingSpoolDirIsAnError) {

@@ -108,12 +108,43 @@ TEST_F(ConvertEmbroideryTest, ADesignLargerThanTheHoopFailsWithTheSizes) {
   EXPECT_FALSE(fs::exists(out_ / "design.dst")) << "nothing is written for a design that cannot be sewn";
 }
 
+TEST_F(ConvertEmbroideryTest, WithTheDefaultsEveryRealImageFitsTheHoop) {
+  for (const char* image : {"fruits.jpg", "butterfly.jpg", "opencv-logo.png", "LinuxLogo.jpg"}) {
+    const ConvertResult r = run(data(image));
+    const nlohmann::json& e = r.report["extent_mm"];
+    EXPECT_LE(e["width"].get<double>(), 100.0) << image;
+    EXPECT_LE(e["height"].get<double>(), 100.0) << image;
+    EXPECT_NEAR(std::max(r.report["size_mm"][0].get<double>(), r.report["size_mm"][1].get<double>()), 90.0, 1e-6)
+        << image << ": as large as fits the 100 mm hoop, 5 mm in from its edge";
+  }
+}
+
+TEST_F(ConvertEmbroideryTest, AnImageWithNothingToSewFailsSayingSo) {
+  const fs::path white = out_.string() + "-white.png";
+  cv::imwrite(white.string(), cv::Mat3b(200, 300, cv::Vec3b(255, 255, 255)));
+  const std::string e = error_of(white, "");
+  fs::remove(white);
+  EXPECT_THAT(e, HasSubstr("white.png"));
+  EXPECT_THAT(e, HasSubstr("nothing to sew"));
+}
+
+TEST_F(ConvertEmbroideryTest, AHugeDesignFailsAtOnceWithoutWorkingOnIt) {
+  // 2000 mm at 10 px/mm would be 20000 px wide; the hoop check comes first.
+  const std::string e = error_of(data("fruits.jpg"), "width_mm = 2000\n");
+  EXPECT_THAT(e, HasSubstr("2000.0 x"));
+  EXPECT_THAT(e, HasSubstr("the hoop is 100.0 x 100.0 mm"));
+}
+
 TEST_F(ConvertEmbroideryTest, BadParametersNameTheKey) {
   EXPECT_THAT(error_of(data("pic1.png"), "colours = 4\n"), HasSubstr("colours"));
   EXPECT_THAT(error_of(data("pic1.png"), "colors = \"many\"\n"), HasSubstr("colors"));
   EXPECT_THAT(error_of(data("pic1.png"), "eW = 5.0\nsW = 4.0\n"), HasSubstr("sW"));
   EXPECT_THAT(error_of(data("pic1.png"), "median = 4\n"), HasSubstr("median"));
   EXPECT_THAT(error_of(data("pic1.png"), "satin_max_mm = 30\n"), HasSubstr("satin_max_mm"));
+  // No stitch may be longer than one DST record.
+  EXPECT_THAT(error_of(data("pic1.png"), "satin_max_mm = 12\nsatin_pull_comp_mm = 0.5\n"), HasSubstr("satin_pull_comp_mm"));
+  EXPECT_THAT(error_of(data("pic1.png"), "trim_jump_mm = 20\n"), HasSubstr("trim_jump_mm"));
+  EXPECT_THAT(error_of(data("pic1.png"), "texture_dpi = 1\n"), HasSubstr("texture_dpi"));
 }
 
 TEST_F(ConvertEmbroideryTest, UserTexturesReplaceTheProceduralOnesAndBadOnesAreNamed) {

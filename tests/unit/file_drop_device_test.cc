@@ -144,4 +144,13 @@ TEST(FileDropDevice, TheRealFolderWriterReportsAMissingFolderAndLeavesNoPartFile
   here.write_atomically("1-x.dst", "abc");
   EXPECT_EQ(slurp(tmp.path() / "1-x.dst"), "abc");
   EXPECT_FALSE(fs::exists(tmp.path() / ".1-x.dst.part"));
+  // A file of the same name (another store's job 1, say) is never replaced.
+  try {
+    here.write_atomically("1-x.dst", "other design");
+    FAIL() << "an existing file must not be replaced";
+  } catch (const DropError& e) {
+    EXPECT_EQ(e.error_number(), EEXIST) << e.what();
+  }
+  EXPECT_EQ(slurp(tmp.path() / "1-x.dst"), "abc");
+  EXPECT_FALSE(fs::exists(tmp.path() / ".1-x.dst.part"));
 }
