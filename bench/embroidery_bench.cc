@@ -31,34 +31,12 @@ cv::Mat image(int which, int cols, int rows) {
   return m;
 }
 
-// Args: columns, rows, image (index into kImages).
-void BM_EmbroideryDesign(benchmark::State& state) {
+// Runs make_design on `state`'s image (args: columns, rows, image index) with `p`, and
+// reports its size, regions, stitches and working size.
+void run_design(benchmark::State& state, const emb::DesignParams& p) {
   const int cols = static_cast<int>(state.range(0)), rows = static_cast<int>(state.range(1));
   const cv::Mat img = image(static_cast<int>(state.range(2)), cols, rows);
   const emb::TextureSet textures = emb::procedural_textures();
-  emb::DesignParams p;
-  p.width_mm = cols / 10.0;
-  p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 400;
-  size_t regions = 0, stitches = 0;
-  for (auto _ : state) {
-    const emb::Design d = emb::make_design(img, textures, p);
-    regions = d.segmentation.regions.size();
-    stitches = static_cast<size_t>(emb::stitch_stats(d.plan).stitches);
-    benchmark::DoNotOptimize(d.synthesis.preview.data);
-  }
-  state.counters["regions"] = static_cast<double>(regions);
-  state.counters["stitches"] = static_cast<double>(stitches);
-  state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " " + kImages[state.range(2)]);
-}
-
-// Args: columns, rows, image; 100 mm wide, other parameters default, on a 130 mm hoop.
-void BM_EmbroideryDefault(benchmark::State& state) {
-  const int cols = static_cast<int>(state.range(0)), rows = static_cast<int>(state.range(1));
-  const cv::Mat img = image(static_cast<int>(state.range(2)), cols, rows);
-  const emb::TextureSet textures = emb::procedural_textures();
-  emb::DesignParams p;
-  p.width_mm = 100;
-  p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 130;
   size_t regions = 0, stitches = 0;
   cv::Size work;
   for (auto _ : state) {
@@ -66,11 +44,28 @@ void BM_EmbroideryDefault(benchmark::State& state) {
     regions = d.segmentation.regions.size();
     stitches = static_cast<size_t>(emb::stitch_stats(d.plan).stitches);
     work = d.work_size;
+    benchmark::DoNotOptimize(d.synthesis.preview.data);
   }
   state.counters["regions"] = static_cast<double>(regions);
   state.counters["stitches"] = static_cast<double>(stitches);
   state.SetLabel(std::to_string(cols) + "x" + std::to_string(rows) + " " + kImages[state.range(2)] +
                  " worked at " + std::to_string(work.width) + "x" + std::to_string(work.height));
+}
+
+// Every pixel: 10 px per mm (nothing resampled), on a 400 mm hoop.
+void BM_EmbroideryDesign(benchmark::State& state) {
+  emb::DesignParams p;
+  p.width_mm = static_cast<double>(state.range(0)) / 10.0;
+  p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 400;
+  run_design(state, p);
+}
+
+// 100 mm wide, other parameters default, on a 130 mm hoop.
+void BM_EmbroideryDefault(benchmark::State& state) {
+  emb::DesignParams p;
+  p.width_mm = 100;
+  p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 130;
+  run_design(state, p);
 }
 
 BENCHMARK(BM_EmbroideryDefault)

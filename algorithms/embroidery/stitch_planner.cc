@@ -128,23 +128,23 @@ StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& dir
     plan.colors_rgb.push_back(rgb(bgr));
     bool block_start = true;
     for (int l = 0; l < kStyleCount; ++l) {
-      std::vector<int> todo;
+      std::vector<int> remaining;
       for (int i : order)
         if (seg.regions[i].color == colour && layer(seg.regions[i].style) == l && !stitches[i].empty())
-          todo.push_back(i);
-      while (!todo.empty()) {
+          remaining.push_back(i);
+      while (!remaining.empty()) {
         // Nearest region start from the needle (squared distances: this scan is quadratic in
         // a colour's region count and runs on one thread).
         size_t best = 0;
         double best_d2 = 1e36;
-        for (size_t t = 0; t < todo.size(); ++t) {
-          const StitchPoint& s = stitches[todo[t]].front();
+        for (size_t t = 0; t < remaining.size(); ++t) {
+          const StitchPoint& s = stitches[remaining[t]].front();
           const double dx = s.x_mm - cur.x_mm, dy = s.y_mm - cur.y_mm, d2 = dx * dx + dy * dy;
           if (d2 < best_d2) best_d2 = d2, best = t;
         }
         const double best_d = std::sqrt(best_d2);
-        const std::vector<StitchPoint>& seq = stitches[todo[best]];
-        todo.erase(todo.begin() + static_cast<long>(best));
+        const std::vector<StitchPoint>& seq = stitches[remaining[best]];
+        remaining.erase(remaining.begin() + static_cast<long>(best));
         const StitchPoint& first = seq.front();
         if (have_pos && block_start) {
           out.push_back({cur.x_mm, cur.y_mm, StitchKind::trim});
