@@ -83,8 +83,21 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
   ::close(in_pipe[0]);
   ::close(err_pipe[1]);
   ::close(prog_pipe[1]);
-  ssize_t ignored = ::write(in_pipe[1], task.defaults_toml.data(), task.defaults_toml.size());
-  (void)ignored;
+  {
+    // A converter that exits before reading its parameters (a bad argument, say) must not kill
+    // the caller with SIGPIPE: atelierd ignores it, but a library user (the tests) may not.
+    // Block it for this thread around the write and drop the one the write raised.
+    sigset_t pipe_signal, old_mask;
+    sigemptyset(&pipe_signal);
+    sigaddset(&pipe_signal, SIGPIPE);
+    pthread_sigmask(SIG_BLOCK, &pipe_signal, &old_mask);
+    const ssize_t written = ::write(in_pipe[1], task.defaults_toml.data(), task.defaults_toml.size());
+    if (written < 0 && errno == EPIPE) {
+      const timespec no_wait{0, 0};
+      sigtimedwait(&pipe_signal, nullptr, &no_wait);
+    }
+    pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
+  }
   close_fd(in_pipe[1]);
 
   std::string err_text, prog_text;
