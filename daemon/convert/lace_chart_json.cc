@@ -1,0 +1,48 @@
+#include "daemon/convert/lace_chart_json.h"
+
+namespace atelier {
+
+nlohmann::json lace_chart_to_json(const lace::Chart& chart, int cast_on) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const lace::Row& row : chart.rows) {
+    nlohmann::json r = nlohmann::json::array();
+    for (lace::Symbol s : row) r.push_back(std::string(lace::name(s)));
+    rows.push_back(std::move(r));
+  }
+  return {{"cast_on", cast_on}, {"rows", std::move(rows)}};
+}
+
+LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source) {
+  auto fail = [&](const std::string& why) -> void {
+    throw std::invalid_argument(source + ": " + why);
+  };
+  if (!j.is_object() || !j.contains("rows") || !j["rows"].is_array())
+    fail("not a lace chart: expected {\"rows\": [[\"k\", \"yo\", ...], ...]}");
+  LaceChartFile out;
+  const auto& rows = j["rows"];
+  for (size_t r = 0; r < rows.size(); ++r) {
+    if (!rows[r].is_array()) fail("row " + std::to_string(r + 1) + " is not a list of symbols");
+    lace::Row row;
+    for (const auto& cell : rows[r]) {
+      if (!cell.is_string()) fail("row " + std::to_string(r + 1) + ": a symbol must be a string");
+      try {
+        row.push_back(lace::parse_symbol(cell.get<std::string>()));
+      } catch (const std::invalid_argument& e) {
+        fail("row " + std::to_string(r + 1) + ": " + e.what());
+      }
+    }
+    out.chart.rows.push_back(std::move(row));
+  }
+  if (out.chart.rows.empty()) fail("the chart has no rows");
+  if (j.contains("cast_on")) {
+    if (!j["cast_on"].is_number_integer()) fail("cast_on must be a whole number of stitches");
+    out.cast_on = j["cast_on"].get<int>();
+  } else {
+    out.cast_on = lace::consumed(out.chart.rows[0]);
+  }
+  const lace::Knittability k = lace::knittable(out.chart, out.cast_on);
+  if (!k) fail(k.why);
+  return out;
+}
+
+}  // namespace atelier

@@ -1,0 +1,28 @@
+// chart.json of a lace job: {"rows": [["k", "yo", "ssk", ...], ...]}, rows[0] the first row
+// knitted, each row in knitting order (right to left as a knitter reads the chart), wrong-side
+// (purl) rows omitted; plus "cast_on", the stitches the chart is worked over (its repeat
+// width). Read by the knitting-machine device and by `start_chart`.
+// Pure; thread-safe.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "algorithms/lace/chart.h"
+
+namespace atelier {
+
+struct LaceChartFile {
+  lace::Chart chart;
+  int cast_on = 0;
+};
+
+nlohmann::json lace_chart_to_json(const lace::Chart& chart, int cast_on);
+
+// Throws std::invalid_argument naming `source` and the problem (not an object, a row that
+// is not a list of symbol names, an unknown symbol, a chart that cannot be knitted from its
+// cast-on). A missing "cast_on" is taken as what row 0 is worked over.
+LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source);
+
+}  // namespace atelier
