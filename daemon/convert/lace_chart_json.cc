@@ -2,14 +2,17 @@
 
 namespace atelier {
 
-nlohmann::json lace_chart_to_json(const lace::Chart& chart, int cast_on) {
+nlohmann::json lace_chart_to_json(const LaceChartFile& file) {
   nlohmann::json rows = nlohmann::json::array();
-  for (const lace::Row& row : chart.rows) {
+  for (const lace::Row& row : file.chart.rows) {
     nlohmann::json r = nlohmann::json::array();
     for (lace::Symbol s : row) r.push_back(std::string(lace::name(s)));
     rows.push_back(std::move(r));
   }
-  return {{"cast_on", cast_on}, {"rows", std::move(rows)}};
+  return {{"cast_on", file.cast_on},
+          {"repeats_wide", file.repeats_wide},
+          {"repeats_high", file.repeats_high},
+          {"rows", std::move(rows)}};
 }
 
 LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source) {
@@ -39,6 +42,12 @@ LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& s
     out.cast_on = j["cast_on"].get<int>();
   } else {
     out.cast_on = lace::consumed(out.chart.rows[0]);
+  }
+  for (auto [key, field] : {std::pair{"repeats_wide", &out.repeats_wide}, {"repeats_high", &out.repeats_high}}) {
+    if (!j.contains(key)) continue;
+    if (!j[key].is_number_integer() || j[key].get<int>() < 1)
+      fail(std::string(key) + " must be a whole number of repeats, at least 1");
+    *field = j[key].get<int>();
   }
   const lace::Knittability k = lace::knittable(out.chart, out.cast_on);
   if (!k) fail(k.why);

@@ -1,7 +1,9 @@
 // chart.json of a lace job: {"rows": [["k", "yo", "ssk", ...], ...]}, rows[0] the first row
 // knitted, each row in knitting order (right to left as a knitter reads the chart), wrong-side
 // (purl) rows omitted; plus "cast_on", the stitches the chart is worked over (its repeat
-// width). Read by the knitting-machine device and by `start_chart`.
+// width), and "repeats_wide" / "repeats_high", the swatch the job knits (preview, knitout and
+// the machine: the chart repeated side by side and on top of itself). Read by the
+// knitting-machine device and by `start_chart`.
 // Pure; thread-safe.
 #pragma once
 
@@ -16,13 +18,15 @@ namespace atelier {
 struct LaceChartFile {
   lace::Chart chart;
   int cast_on = 0;
+  int repeats_wide = 1;  // >= 1
+  int repeats_high = 1;  // >= 1
 };
 
-nlohmann::json lace_chart_to_json(const lace::Chart& chart, int cast_on);
+nlohmann::json lace_chart_to_json(const LaceChartFile& file);
 
 // Throws std::invalid_argument naming `source` and the problem (not an object, a row that
 // is not a list of symbol names, an unknown symbol, a chart that cannot be knitted from its
-// cast-on). A missing "cast_on" is taken as what row 0 is worked over.
+// cast-on). A missing "cast_on" is taken as what row 0 is worked over; missing repeats are 1.
 LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source);
 
 }  // namespace atelier
