@@ -1,0 +1,342 @@
+#include "algorithms/lace/evolve.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <utility>
+
+#include "algorithms/lace/operators.h"
+#include "algorithms/lace/random_chart.h"
+#include "algorithms/lace/stitch_tree.h"
+
+namespace atelier::lace {
+
+namespace {
+
+// Runs fn(begin, end) over [0, n) cut into `threads` fixed contiguous chunks, chunk 0 on the
+// calling thread. The first exception (by chunk) is rethrown after all have finished.
+template <typename Fn>
+void parallel_for(std::size_t n, int threads, Fn&& fn) {
+  const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n));
+  if (parts == 1) {
+    fn(std::size_t{0}, n);
+    return;
+  }
+  std::vector<std::exception_ptr> errors(parts);
+  auto run = [&](std::size_t k) {
+    try {
+      fn(n * k / parts, n * (k + 1) / parts);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(parts - 1);
+  for (std::size_t k = 1; k < parts; ++k) pool.emplace_back(run, k);
+  run(0);
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+int code(Symbol s) { return static_cast<int>(s) + 1; }  // 1..5; 0 = no cell
+
+void signature_into(const Chart& chart, int stride, ChartSignature& sig) {
+  const std::size_t bits = chart.rows.size() * static_cast<std::size_t>(stride);
+  const std::size_t words = (bits + 63) / 64;
+  sig.planes.assign(3 * words, 0);
+  for (std::size_t r = 0; r < chart.rows.size(); ++r) {
+    const Row& row = chart.rows[r];
+    const std::size_t n = std::min<std::size_t>(row.size(), stride);
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t bit = r * stride + j;
+      const int c = code(row[j]);
+      for (int b = 0; b < 3; ++b) {
+        if (c >> b & 1) sig.planes[b * words + bit / 64] |= std::uint64_t{1} << (bit % 64);
+      }
+    }
+  }
+}
+
+struct Individual {
+  Forest forest;
+  Chart chart;  // decode(forest)
+  Evaluation evaluation;
+  ChartSignature signature;
+};
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("lace: evolve: " + what);
+}
+
+void validate(const EvolveParams& p) {
+  auto weight_ok = [](double w) { return std::isfinite(w) && w >= 0; };
+  if (p.start) {
+    require(p.start_cast_on >= 2 && p.start_cast_on <= 200, "start_cast_on must be 2..200");
+    require(!p.start->rows.empty() && p.start->rows.size() <= 200, "start must have 1..200 rows");
+    const Knittability k = knittable(*p.start, p.start_cast_on);
+    require(k.ok, "start cannot be knitted from start_cast_on stitches: " + k.why);
+    require(produced(p.start->rows.back()) == p.start_cast_on,
+            "start must end as wide as its cast-on (eq. 1), it ends with " +
+                std::to_string(produced(p.start->rows.back())) + " stitches");
+  } else {
+    require(p.width >= 2 && p.width <= 200, "width must be 2..200");
+    require(p.rows >= 1 && p.rows <= 200, "rows must be 1..200");
+  }
+  require(p.population >= 2 && p.population <= 100000, "population must be 2..100000");
+  require(p.generations >= 0 && p.generations <= 100000, "generations must be 0..100000");
+  require(weight_ok(p.weights.holes), "weights.holes must be finite and >= 0");
+  require(weight_ok(p.weights.knit_length), "weights.knit_length must be finite and >= 0");
+  require(weight_ok(p.weights.depth), "weights.depth must be finite and >= 0");
+  require(weight_ok(p.weights.symmetry), "weights.symmetry must be finite and >= 0");
+  require(p.width_tolerance >= 0 && p.width_tolerance <= 200, "width_tolerance must be 0..200");
+  require(p.tournament >= 1 && p.tournament <= p.population, "tournament must be 1..population");
+  require(p.elites >= 0 && p.elites < p.population, "elites must be 0..population-1");
+  require(p.crossover_rate >= 0 && p.crossover_rate <= 1, "crossover_rate must be in [0, 1]");
+  require(p.mutation_rate >= 0 && p.mutation_rate <= 1, "mutation_rate must be in [0, 1]");
+  require(p.sharing_radius >= 0 && p.sharing_radius <= 1, "sharing_radius must be in [0, 1]");
+  require(std::isfinite(p.sharing_alpha) && p.sharing_alpha > 0, "sharing_alpha must be > 0");
+  require(p.threads >= 1 && p.threads <= 64, "threads must be 1..64");
+}
+
+// One random mutation (probabilities in evolve.h's file comment). Returns whether it changed
+// the forest.
+bool mutate(Forest& f, std::mt19937_64& rng) {
+  const int x = std::uniform_int_distribution<int>(0, 9)(rng);
+  if (x < 4) return subtree_mutation(f, rng);
+  if (x < 6) return flip_slant(f, rng);
+  if (x < 8) return lengthen_plain_run(f, rng);
+  return swap_trees(f, rng);
+}
+
+class Run {
+ public:
+  explicit Run(const EvolveParams& p)
+      : p_(p),
+        width_(p.start ? p.start_cast_on : p.width),
+        rows_(p.start ? static_cast<int>(p.start->rows.size()) : p.rows),
+        stride_(width_ + p.width_tolerance),
+        sigma_(p.sharing_radius * width_ * rows_),
+        rng_(p.seed) {}
+
+  EvolveResult run() {
+    int generation = 0;
+    if (p_.start) {
+      pop_.resize(1);
+      pop_[0].forest = encode(*p_.start, p_.start_cast_on);
+    } else {
+      random_population();
+    }
+    evaluate_all(0);
+    record();
+    if (p_.start && p_.generations >= 1) {
+      variations_of_start();
+      evaluate_all(0);
+      record();
+      report(++generation);
+    }
+    next_.resize(p_.population);
+    while (generation < p_.generations) {
+      breed();
+      pop_.swap(next_);
+      evaluate_all(static_cast<std::size_t>(p_.elites));
+      record();
+      report(++generation);
+    }
+    if (!best_) {
+      throw std::runtime_error(
+          "lace: evolve: no chart satisfied the constraints (the extra constraints rejected every "
+          "chart, or the start chart is infeasible and there were no generations)");
+    }
+    EvolveResult result;
+    result.chart = best_->chart;
+    result.cast_on = width_;
+    result.evaluation = best_->evaluation;
+    result.generations_run = generation;
+    result.best_score = std::move(best_score_);
+    result.feasible_in_final_population = static_cast<int>(std::count_if(
+        pop_.begin(), pop_.end(), [](const Individual& i) { return i.evaluation.constraints.ok(); }));
+    return result;
+  }
+
+ private:
+  // Half grown trees (shape variety), half row-by-row charts that satisfy the constraints.
+  void random_population() {
+    pop_.resize(p_.population);
+    for (std::size_t i = 0; i < pop_.size(); ++i) {
+      pop_[i].forest = i % 2 == 0 ? encode(random_feasible_chart(width_, rows_, rng_), width_)
+                                  : random_forest(width_, rows_, rng_);
+    }
+  }
+
+  // The start chart, then mutants of it (1 to 3 mutations each); with an infeasible start, every
+  // other individual is a random feasible chart so that a feasible chart exists.
+  void variations_of_start() {
+    const Forest start = pop_[0].forest;
+    const bool feasible = pop_[0].evaluation.constraints.ok();
+    pop_.resize(p_.population);
+    for (std::size_t i = 1; i < pop_.size(); ++i) {
+      if (!feasible && i % 2 == 1) {
+        pop_[i].forest = encode(random_feasible_chart(width_, rows_, rng_), width_);
+        continue;
+      }
+      pop_[i].forest = start;
+      const int n = std::uniform_int_distribution<int>(1, 3)(rng_);
+      for (int m = 0; m < n; ++m) mutate(pop_[i].forest, rng_);
+    }
+  }
+
+  void evaluate_all(std::size_t from) {
+    parallel_for(pop_.size() - from, p_.threads, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::uint32_t> stack;
+      for (std::size_t i = from + begin; i < from + end; ++i) evaluate_one(pop_[i], stack);
+    });
+  }
+
+  void evaluate_one(Individual& ind, std::vector<std::uint32_t>& stack) const {
+    decode_into(ind.forest, ind.chart, stack);
+    Evaluation& e = ind.evaluation;
+    e = evaluate(ind.chart, width_, p_.weights, p_.width_tolerance);
+    if (p_.extra_violations) {
+      e.constraints.extra = p_.extra_violations(ind.chart, width_);
+      if (e.constraints.extra < 0) {
+        throw std::invalid_argument("lace: evolve: extra_violations returned a negative count");
+      }
+      e.score = score(e.constraints, e.objectives, p_.weights);
+    }
+    signature_into(ind.chart, stride_, ind.signature);
+  }
+
+  // Best raw score of the generation, and the best feasible individual ever (first seen wins
+  // ties).
+  void record() {
+    double top = -std::numeric_limits<double>::infinity();
+    for (const Individual& ind : pop_) {
+      top = std::max(top, ind.evaluation.score);
+      if (ind.evaluation.constraints.ok() &&
+          (!best_ || ind.evaluation.score > best_->evaluation.score)) {
+        best_ = ind;
+      }
+    }
+    best_score_.push_back(top);
+  }
+
+  void report(int generation) const {
+    if (p_.progress) p_.progress(generation, p_.generations);
+  }
+
+  // Shared fitness: scores shifted to be positive, divided by the niche counts.
+  void share() {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Individual& ind : pop_) {
+      lo = std::min(lo, ind.evaluation.score);
+      hi = std::max(hi, ind.evaluation.score);
+    }
+    const double floor = 1e-9 + 0.01 * (hi - lo);  // the worst keeps a small chance
+    signatures_.resize(pop_.size());
+    for (std::size_t i = 0; i < pop_.size(); ++i) std::swap(signatures_[i], pop_[i].signature);
+    const std::vector<double> niches = niche_counts(signatures_, sigma_, p_.sharing_alpha, p_.threads);
+    for (std::size_t i = 0; i < pop_.size(); ++i) std::swap(signatures_[i], pop_[i].signature);
+    shared_.resize(pop_.size());
+    for (std::size_t i = 0; i < pop_.size(); ++i) {
+      shared_[i] = (pop_[i].evaluation.score - lo + floor) / niches[i];
+    }
+  }
+
+  std::size_t tournament() {
+    std::uniform_int_distribution<std::size_t> any(0, pop_.size() - 1);
+    std::size_t winner = any(rng_);
+    for (int k = 1; k < p_.tournament; ++k) {
+      const std::size_t other = any(rng_);
+      if (shared_[other] > shared_[winner]) winner = other;
+    }
+    return winner;
+  }
+
+  void breed() {
+    share();
+    std::vector<std::size_t> order(pop_.size());
+    std::iota(order.begin(), order.end(), 0);
+    const std::size_t elites = static_cast<std::size_t>(p_.elites);
+    std::partial_sort(order.begin(), order.begin() + elites, order.end(),
+                      [&](std::size_t a, std::size_t b) {
+                        const double sa = pop_[a].evaluation.score, sb = pop_[b].evaluation.score;
+                        return sa != sb ? sa > sb : a < b;
+                      });
+    for (std::size_t e = 0; e < elites; ++e) next_[e] = pop_[order[e]];
+    std::uniform_real_distribution<double> coin(0.0, 1.0);
+    for (std::size_t i = elites; i < next_.size(); ++i) {
+      Forest& child = next_[i].forest;
+      child = pop_[tournament()].forest;  // reuses the child's storage
+      if (coin(rng_) < p_.crossover_rate) crossover(child, pop_[tournament()].forest, rng_);
+      if (coin(rng_) < p_.mutation_rate) mutate(child, rng_);
+    }
+  }
+
+  const EvolveParams& p_;
+  const int width_, rows_, stride_;
+  const double sigma_;
+  std::mt19937_64 rng_;
+  std::vector<Individual> pop_, next_;
+  std::vector<ChartSignature> signatures_;
+  std::vector<double> shared_;
+  std::optional<Individual> best_;
+  std::vector<double> best_score_;
+};
+
+}  // namespace
+
+ChartSignature signature(const Chart& chart, int stride) {
+  if (stride < 1) throw std::invalid_argument("lace: signature: stride must be >= 1");
+  ChartSignature sig;
+  signature_into(chart, stride, sig);
+  return sig;
+}
+
+int distance(const ChartSignature& a, const ChartSignature& b) {
+  const std::size_t words = std::min(a.planes.size(), b.planes.size()) / 3;
+  int d = 0;
+  for (std::size_t w = 0; w < words; ++w) {
+    const std::uint64_t differ = (a.planes[w] ^ b.planes[w]) |
+                                 (a.planes[words + w] ^ b.planes[words + w]) |
+                                 (a.planes[2 * words + w] ^ b.planes[2 * words + w]);
+    d += std::popcount(differ);
+  }
+  return d;
+}
+
+std::vector<double> niche_counts(const std::vector<ChartSignature>& population, double sigma,
+                                 double alpha, int threads) {
+  std::vector<double> m(population.size(), 1.0);
+  if (sigma <= 0) return m;
+  // sh(d) for every integer distance below sigma, so the pair loop only looks it up.
+  std::vector<double> sh;
+  for (int d = 0; d < sigma; ++d) sh.push_back(1.0 - std::pow(d / sigma, alpha));
+  const int limit = static_cast<int>(sh.size());
+  parallel_for(population.size(), std::max(1, threads), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      double sum = 0;
+      for (std::size_t j = 0; j < population.size(); ++j) {
+        const int d = distance(population[i], population[j]);
+        if (d < limit) sum += sh[d];
+      }
+      m[i] = sum;
+    }
+  });
+  return m;
+}
+
+EvolveResult evolve(const EvolveParams& p) {
+  validate(p);
+  return Run(p).run();
+}
+
+}  // namespace atelier::lace

@@ -1,0 +1,209 @@
+#include "algorithms/lace/operators.h"
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "algorithms/lace/random_chart.h"
+
+namespace atelier::lace {
+
+namespace {
+
+int children_of(const Node& n) { return n.cast_on ? 0 : consumes(n.symbol); }
+
+std::size_t pick(std::size_t n, std::mt19937_64& rng) {
+  return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
+}
+
+// Chart row of every node of the tree (-1 for cast-on leaves); children follow their parent,
+// so one forward sweep sets every level.
+void levels(const Tree& tree, int rows, std::vector<int>& out) {
+  out.assign(tree.nodes.size(), 0);
+  out[0] = rows - 1;
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const Node& n = tree.nodes[i];
+    for (int c = 0; c < children_of(n); ++c) out[n.first_child + c] = out[i] - 1;
+  }
+}
+
+struct Place {
+  std::size_t tree = 0;
+  std::uint32_t node = 0;
+};
+
+// The k-th node (0-based, in tree then index order) for which want(tree, index) holds.
+template <typename Want>
+Place kth(const Forest& f, std::size_t k, Want&& want) {
+  for (std::size_t t = 0; t < f.trees.size(); ++t) {
+    const auto& nodes = f.trees[t].nodes;
+    for (std::uint32_t i = 0; i < nodes.size(); ++i) {
+      if (want(t, i) && k-- == 0) return {t, i};
+    }
+  }
+  return {};
+}
+
+template <typename Want>
+std::size_t count(const Forest& f, Want&& want) {
+  std::size_t n = 0;
+  for (std::size_t t = 0; t < f.trees.size(); ++t) {
+    for (std::uint32_t i = 0; i < f.trees[t].nodes.size(); ++i) n += want(t, i) ? 1 : 0;
+  }
+  return n;
+}
+
+// A random stitch (not a cast-on leaf) of the forest; a well-formed forest always has one.
+Place random_stitch(const Forest& f, std::mt19937_64& rng) {
+  auto stitch = [&](std::size_t t, std::uint32_t i) { return !f.trees[t].nodes[i].cast_on; };
+  return kth(f, pick(count(f, stitch), rng), stitch);
+}
+
+// `dst` with its subtree at `at` replaced by the subtree of `src` at `from`, laid out breadth
+// first (children contiguous, after their parent). src may be dst itself.
+Tree splice(const Tree& dst, std::uint32_t at, const Tree& src, std::uint32_t from) {
+  struct Item {
+    const Tree* tree;
+    std::uint32_t index;
+    bool from_src;
+  };
+  std::vector<Item> queue;  // queue[k] becomes out.nodes[k]
+  queue.reserve(dst.nodes.size() + src.nodes.size());
+  queue.push_back({&dst, 0, false});
+  Tree out;
+  out.nodes.reserve(dst.nodes.size() + src.nodes.size());
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    Item item = queue[k];
+    if (!item.from_src && item.index == at) item = {&src, from, true};
+    Node node = item.tree->nodes[item.index];
+    const int n = children_of(node);
+    const std::uint32_t first = node.first_child;
+    node.first_child = n == 0 ? 0u : static_cast<std::uint32_t>(queue.size());
+    out.nodes.push_back(node);
+    for (int c = 0; c < n; ++c) queue.push_back({item.tree, first + c, item.from_src});
+  }
+  return out;
+}
+
+bool is_decrease(Symbol s) { return s == Symbol::k2tog || s == Symbol::ssk || s == Symbol::sk2p; }
+
+bool has_cast_on(const Tree& tree) {
+  for (const Node& n : tree.nodes) {
+    if (n.cast_on) return true;
+  }
+  return false;
+}
+
+// Puts `fresh` in place of tree t unless the forest would then stand on no cast-on stitch
+// (every path ending in a yarn-over), which is not a well-formed forest.
+bool replace_tree(Forest& f, std::size_t t, Tree&& fresh) {
+  bool grounded = has_cast_on(fresh);
+  for (std::size_t u = 0; u < f.trees.size() && !grounded; ++u) {
+    grounded = u != t && has_cast_on(f.trees[u]);
+  }
+  if (!grounded) return false;
+  f.trees[t] = std::move(fresh);
+  return true;
+}
+
+}  // namespace
+
+bool crossover(Forest& a, const Forest& b, std::mt19937_64& rng) {
+  std::vector<int> level_a, level_b;
+  std::vector<std::vector<int>> levels_b(b.trees.size());
+  for (std::size_t t = 0; t < b.trees.size(); ++t) levels(b.trees[t], b.rows, levels_b[t]);
+  // A few tries: b may have no stitch at the chosen row (its trees may end in yarn-overs).
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const Place p = random_stitch(a, rng);
+    levels(a.trees[p.tree], a.rows, level_a);
+    const int row = level_a[p.node];
+    auto at_row = [&](std::size_t t, std::uint32_t i) { return levels_b[t][i] == row; };
+    const std::size_t candidates = count(b, at_row);
+    if (candidates == 0) continue;
+    const Place q = kth(b, pick(candidates, rng), at_row);
+    return replace_tree(a, p.tree, splice(a.trees[p.tree], p.node, b.trees[q.tree], q.node));
+  }
+  return false;
+}
+
+bool subtree_mutation(Forest& f, std::mt19937_64& rng) {
+  const Place p = random_stitch(f, rng);
+  std::vector<int> level;
+  levels(f.trees[p.tree], f.rows, level);
+  const Tree fresh = random_tree(level[p.node], rng);
+  return replace_tree(f, p.tree, splice(f.trees[p.tree], p.node, fresh, 0));
+}
+
+bool flip_slant(Forest& f, std::mt19937_64& rng) {
+  auto slanted = [&](std::size_t t, std::uint32_t i) {
+    const Node& n = f.trees[t].nodes[i];
+    return !n.cast_on && (n.symbol == Symbol::k2tog || n.symbol == Symbol::ssk);
+  };
+  const std::size_t n = count(f, slanted);
+  if (n == 0) return false;
+  const Place p = kth(f, pick(n, rng), slanted);
+  Node& node = f.trees[p.tree].nodes[p.node];
+  node.symbol = node.symbol == Symbol::k2tog ? Symbol::ssk : Symbol::k2tog;
+  return true;
+}
+
+bool lengthen_plain_run(Forest& f, std::mt19937_64& rng) {
+  auto on_decrease = [&](std::size_t t, std::uint32_t i) {
+    const auto& nodes = f.trees[t].nodes;
+    const Node& n = nodes[i];
+    if (n.cast_on || n.symbol != Symbol::k) return false;
+    const Node& below = nodes[n.first_child];
+    return !below.cast_on && is_decrease(below.symbol);
+  };
+  const std::size_t n = count(f, on_decrease);
+  if (n == 0) return false;
+  const Place p = kth(f, pick(n, rng), on_decrease);
+  Tree& tree = f.trees[p.tree];
+  const std::uint32_t dec = tree.nodes[p.node].first_child;
+  const Node& decrease = tree.nodes[dec];
+  const std::uint32_t kept =
+      decrease.first_child + static_cast<std::uint32_t>(pick(consumes(decrease.symbol), rng));
+  // The replacement: a k (index 0) over the kept child's subtree (index 1 onwards).
+  Tree plain;
+  plain.nodes.push_back(Node{false, Symbol::k, 1});
+  const Tree kept_subtree = splice(tree, 0, tree, kept);  // the subtree at `kept`, alone
+  plain.nodes.insert(plain.nodes.end(), kept_subtree.nodes.begin(), kept_subtree.nodes.end());
+  for (std::size_t i = 1; i < plain.nodes.size(); ++i) {
+    if (children_of(plain.nodes[i]) > 0) ++plain.nodes[i].first_child;
+  }
+  return replace_tree(f, p.tree, splice(tree, dec, plain, 0));
+}
+
+bool swap_trees(Forest& f, std::mt19937_64& rng) {
+  if (f.trees.size() < 2) return false;
+  const std::size_t i = pick(f.trees.size(), rng);
+  std::size_t j = pick(f.trees.size() - 1, rng);
+  if (j >= i) ++j;
+  std::swap(f.trees[i], f.trees[j]);
+  return true;
+}
+
+void decode_into(const Forest& forest, Chart& chart, std::vector<std::uint32_t>& stack) {
+  chart.rows.resize(forest.rows);
+  for (Row& row : chart.rows) row.clear();
+  for (const Tree& tree : forest.trees) {
+    // Depth first, children in knitting order: (node, row) pairs; cast-on leaves never pushed.
+    stack.clear();
+    stack.push_back(0);
+    stack.push_back(static_cast<std::uint32_t>(forest.rows - 1));
+    while (!stack.empty()) {
+      const int row = static_cast<int>(stack.back());
+      stack.pop_back();
+      const Node& node = tree.nodes[stack.back()];
+      stack.pop_back();
+      chart.rows[row].push_back(node.symbol);
+      if (row == 0) continue;
+      for (int c = consumes(node.symbol) - 1; c >= 0; --c) {
+        stack.push_back(node.first_child + c);
+        stack.push_back(static_cast<std::uint32_t>(row - 1));
+      }
+    }
+  }
+}
+
+}  // namespace atelier::lace

@@ -1,0 +1,48 @@
+// The genetic operators on forests (Ekart 2007, section 5 and the specialised mutations of
+// section 8), and a fast decode for the forests they build.
+//
+// Every operator takes a well-formed full-depth forest (forest_error() == "") and leaves it
+// well-formed, with the same rows and the same number of trees; what changes is the stitches
+// (so the cast-on, i.e. eq. 1's balance, may change). Each returns whether it changed
+// anything: false means no place to apply it was found (or the change would have left no
+// path down to the cast-on, i.e. no cast-on stitch at all), and the forest is untouched.
+// Random choices use the caller's generator (one thread at a time). Rows are chart rows
+// (0-based, rows[0] first knitted); a node's row is its level in the tree.
+#pragma once
+
+#include <random>
+
+#include "algorithms/lace/chart.h"
+#include "algorithms/lace/stitch_tree.h"
+
+namespace atelier::lace {
+
+// Subtree crossover (Koza): a random stitch of `a` (uniform over all stitches, cast-on leaves
+// excluded) is replaced by a copy of a random subtree of `b` rooted at the same chart row, so
+// depth stays full. a.rows must equal b.rows.
+bool crossover(Forest& a, const Forest& b, std::mt19937_64& rng);
+
+// Subtree mutation: a random stitch is replaced by a new random tree rooted at its row
+// (random_tree()).
+bool subtree_mutation(Forest& f, std::mt19937_64& rng);
+
+// Flip a slant (the paper's proposed "\" -> "/"): one random k2tog becomes ssk or ssk becomes
+// k2tog. False when the forest has no single decrease.
+bool flip_slant(Forest& f, std::mt19937_64& rng);
+
+// Lengthen a run of plain stitches (the paper's "increasing the length of plain stitches knit
+// on top of each other"): below a random plain stitch whose one child is a decrease, that
+// decrease becomes a k worked over one (random) of the decrease's own children; the other
+// children's subtrees go. The run of k above it grows by one row and the tree stays full
+// depth. False when no k stands on a decrease.
+bool lengthen_plain_run(Forest& f, std::mt19937_64& rng);
+
+// The paper's order change (section 3): two random trees change places. False with < 2 trees.
+bool swap_trees(Forest& f, std::mt19937_64& rng);
+
+// decode(forest) without the checks, into `chart` (its rows' storage is reused). Only for
+// well-formed forests (e.g. ones built by encode(), random_forest() and these operators);
+// anything else is undefined behaviour. `stack` is scratch space.
+void decode_into(const Forest& forest, Chart& chart, std::vector<std::uint32_t>& stack);
+
+}  // namespace atelier::lace
