@@ -10,7 +10,9 @@
 // targets: they share INPUT's parameters.
 //
 // Parameters are layered: --params (the daemon's merged defaults), then `<INPUT>.toml` beside
-// the input when it exists (the sidecar, as in the hot folder), then each --set. Writes the
+// the input when it exists (the sidecar, as in the hot folder), then each --set. For lace,
+// INPUT is the job file itself (NAME.toml: kind = "lace" and parameters), the middle layer,
+// or "-" for none. Writes the
 // kind's outputs and a copy of the input into OUTPUT_DIR, like a job's done/<id>/ folder.
 // Exit codes: 0 ok, 1 bad input or parameters (message on stderr), 2 usage.
 #include <CLI/CLI.hpp>
@@ -115,8 +117,8 @@ int main(int argc, char** argv) {
   std::vector<std::vector<std::string>> with;
   int progress_fd = -1;
   atelier::ImageLimits limits;
-  app.add_option("KIND", kind, "kind of job (knit: an image; cut: an SVG)")->required();
-  app.add_option("INPUT", input, "input file")->required();
+  app.add_option("KIND", kind, "kind of job (knit: an image; cut: an SVG; lace: a job file NAME.toml or -)")->required();
+  app.add_option("INPUT", input, "input file (\"-\": none, for lace)")->required();
   app.add_option("OUTPUT_DIR", output_dir, "folder for the outputs (created if missing)")
       ->required();
   app.add_option("--params", params_file, "TOML file of parameters (applied first)");
@@ -160,13 +162,30 @@ int main(int argc, char** argv) {
       atelier::merge_into(params, layer);
     }
     fs::path in(input);
-    fs::path sidecar = in;
-    sidecar += ".toml";
+    const bool no_input = input == "-";
     std::error_code ec;
-    if (in.extension() != ".toml" && fs::is_regular_file(sidecar, ec)) {
-      toml::table layer = parse_toml_file(sidecar.string());
-      atelier::validate_kind_params(kind, layer, sidecar.string());
-      atelier::merge_into(params, layer);
+    if (atelier::converts_job_file(kind)) {
+      // The job file is the kind's parameters (and `kind`); "-" is no file at all.
+      if (no_input) {
+      } else if (in.extension() != ".toml") {
+        throw ConvertError(in.filename().string() + ": a " + kind + " job is a TOML job file of "
+                           "parameters (NAME.toml), not an image");
+      } else {
+        toml::table layer = parse_toml_file(in.string());
+        atelier::validate_kind_params(kind, layer, in.string());
+        atelier::merge_into(params, layer);
+      }
+    } else if (no_input) {
+      throw ConvertError("'-' (no input file) is only for job-file kinds such as lace; " + kind +
+                         " needs an input file");
+    } else {
+      fs::path sidecar = in;
+      sidecar += ".toml";
+      if (in.extension() != ".toml" && fs::is_regular_file(sidecar, ec)) {
+        toml::table layer = parse_toml_file(sidecar.string());
+        atelier::validate_kind_params(kind, layer, sidecar.string());
+        atelier::merge_into(params, layer);
+      }
     }
     toml::table overrides;
     for (const auto& s : sets) atelier::apply_set(overrides, s);
@@ -184,7 +203,7 @@ int main(int argc, char** argv) {
     for (const auto& w : with) req.together.push_back({w.at(0), w.at(1)});
     req.progress = [&progress](double f) { progress(f); };
     atelier::ConvertResult result = atelier::convert(req);
-    copy_input(in, output_dir, result.outputs);
+    if (!no_input) copy_input(in, output_dir, result.outputs);
     for (const auto& extra : req.together) {
       // Each target's folder holds its own input, like a job's done/<id>/ folder.
       copy_input(extra.input, extra.output_dir, result.outputs);

@@ -7,6 +7,8 @@
 #include "daemon/convert/embroidery_params.h"
 #include "daemon/convert/knit_job.h"
 #include "daemon/convert/knit_params.h"
+#include "daemon/convert/lace_job.h"
+#include "daemon/convert/lace_params.h"
 #include "daemon/convert/param_table.h"
 #include "daemon/convert/parquetry_job.h"
 #include "daemon/convert/parquetry_params.h"
@@ -23,9 +25,11 @@ std::string kind_list() {
 }  // namespace
 
 const std::vector<std::string>& known_kinds() {
-  static const std::vector<std::string> kinds{"knit", "cut", "parquetry", "embroidery"};
+  static const std::vector<std::string> kinds{"knit", "cut", "parquetry", "embroidery", "lace"};
   return kinds;
 }
+
+bool converts_job_file(const std::string& kind) { return kind == "lace"; }
 
 bool is_known_kind(const std::string& kind) {
   const auto& kinds = known_kinds();
@@ -50,6 +54,10 @@ void validate_kind_params(const std::string& kind, const toml::table& params,
     read_embroidery_params(params, source);
     return;
   }
+  if (kind == "lace") {
+    read_lace_params(params, source);
+    return;
+  }
   throw ParamError(source + ": unknown kind '" + kind + "' (known: " + kind_list() + ")");
 }
 
@@ -67,6 +75,7 @@ ConvertResult convert(const ConvertRequest& request) {
     if (request.kind == "cut") return convert_cut(request);
     if (request.kind == "parquetry") return convert_parquetry(request);
     if (request.kind == "embroidery") return convert_embroidery(request);
+    if (request.kind == "lace") throw ConvertError("lace: not built yet");  // TEMP until helpers land
     return convert_knit(request);
   } catch (const cv::Exception& e) {
     throw ConvertError(request.input.filename().string() + ": image processing failed: " +

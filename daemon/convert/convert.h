@@ -26,6 +26,9 @@ class ConvertError : public std::runtime_error {
 // The kinds this build can convert (e.g. {"knit"}). Folder names under incoming/.
 const std::vector<std::string>& known_kinds();
 bool is_known_kind(const std::string& kind);
+// Kinds whose input is a TOML job file of parameters (`incoming/NAME.toml` with kind = "...",
+// or NAME.toml in incoming/<kind>/), not an image: lace.
+bool converts_job_file(const std::string& kind);
 
 // Validates a kind's parameter table strictly (unknown keys, wrong types, out of range);
 // throws ParamError naming file, line and key. `source` names the file for messages.
@@ -41,7 +44,9 @@ struct ExtraTarget {
 
 struct ConvertRequest {
   std::string kind;
-  std::filesystem::path input;        // the image (or job file); read only
+  std::filesystem::path input;        // the image (or job file); read only. For a job-file
+                                      // kind, its parameters are already merged into params
+                                      // (atelier-convert does it), and "-" means no file
   toml::table params;                 // merged: config section, sidecar, --set
   std::string params_source = "parameters";  // for error messages
   std::filesystem::path output_dir;   // created if missing; outputs are written here

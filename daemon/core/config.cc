@@ -54,6 +54,10 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   if (laser) d.streaming = r.get_choice("streaming", d.streaming, {"character-counting", "send-response"});
   r.finish();
   if (knitter && d.kinds.empty()) r.fail("kinds", "a knitting machine needs at least one kind, e.g. [\"knit\"]");
+  if (knitter)
+    for (const auto& k : d.kinds)
+      if (is_known_kind(k) && k != "knit" && k != "lace")
+        r.fail("kinds", "a knitting machine knits 'knit' and 'lace' jobs, not '" + k + "'");
   if (laser) {
     const auto takes = laser_kinds();
     for (const auto& k : d.kinds)
@@ -174,6 +178,8 @@ Config from_table(const toml::table& root, const std::string& source) {
   // The conversion reads its parameters from standard input, where they have no file.
   if (auto it = c.kind_defaults.find("embroidery"); it != c.kind_defaults.end())
     make_absolute(it->second, "textures", base);
+  if (auto it = c.kind_defaults.find("lace"); it != c.kind_defaults.end())
+    make_absolute(it->second, "start_chart", base);
   if (auto it = c.kind_defaults.find("parquetry"); it != c.kind_defaults.end())
     place_parquetry_wood(it->second, base, c.state_dir());
   return c;

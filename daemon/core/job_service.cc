@@ -89,6 +89,7 @@ std::string classify(const SpoolLayout& layout, const fs::path& entry, std::stri
              std::string(e.description());
     }
     if (!is_known_kind(kind)) return name + ": unknown kind '" + kind + "'";
+    if (converts_job_file(kind)) return "";
     return name + ": kind '" + kind + "' converts an image: drop the image into incoming/" +
            kind + "/ (with an optional sidecar NAME.EXT.toml)";
   }

@@ -203,3 +203,19 @@ TEST(Config, AJobsOverridesMergeIntoTablesKeyByKey) {
   EXPECT_EQ(base["laser"]["layer"].as_array()->size(), 2u);
   EXPECT_EQ(base["laser"]["layer"][0]["color"].value<std::string>(), "#000000");
 }
+
+TEST(Config, AKnittingMachineKnitsKnitAndLaceJobsOnly) {
+  Config c = parse_config("[spool]\ndir = \"/s\"\n[lace]\nstart_chart = \"charts/diamond.json\"\n"
+                          "[[device]]\nname = \"k\"\ndriver = \"ayab\"\nport = \"/dev/x\"\n"
+                          "kinds = [\"knit\", \"lace\"]\n",
+                          "/etc/atelier/atelierd.toml");
+  ASSERT_EQ(c.devices.size(), 1u);
+  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"knit", "lace"}));
+  // The converter reads its parameters from a pipe: a relative start chart follows the config.
+  EXPECT_EQ(c.kind_defaults.at("lace")["start_chart"].value<std::string>(),
+            std::optional<std::string>("/etc/atelier/charts/diamond.json"));
+  const std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n"
+                                 "port = \"/dev/x\"\nkinds = [\"knit\", \"cut\"]\n");
+  EXPECT_NE(e.find("knits 'knit' and 'lace' jobs, not 'cut'"), std::string::npos) << e;
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[lace]\nwidht = 3\n").find("widht"), std::string::npos);
+}

@@ -131,9 +131,14 @@ TEST_F(ConvertToolTest, UsageErrorsExitTwo) {
   EXPECT_EQ(tool(""), 2);
   EXPECT_EQ(tool("knit " + q(kData / "pic3.png")), 2);
   EXPECT_EQ(tool("knit " + q(kData / "pic3.png") + " " + q(dir_ / "out") + " --bogus"), 2);
-  EXPECT_EQ(tool("lace " + q(kData / "pic3.png") + " " + q(dir_ / "out")), 2);
+  EXPECT_EQ(tool("crochet " + q(kData / "pic3.png") + " " + q(dir_ / "out")), 2);
   EXPECT_THAT(err(), HasSubstr("knit"));
   EXPECT_FALSE(fs::exists(dir_ / "out"));
+  // A known kind given the wrong sort of input is bad input (1), named.
+  EXPECT_EQ(tool("lace " + q(kData / "pic3.png") + " " + q(dir_ / "out")), 1);
+  EXPECT_THAT(err(), HasSubstr("pic3.png: a lace job is a TOML job file"));
+  EXPECT_EQ(tool("knit - " + q(dir_ / "out")), 1);
+  EXPECT_THAT(err(), HasSubstr("needs an input file"));
   EXPECT_EQ(tool("--help"), 0);
 }
 

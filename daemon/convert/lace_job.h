@@ -1,0 +1,29 @@
+// The `lace` conversion (issue 7): a job file of parameters -> a lace chart evolved by genetic
+// programming (algorithms/lace/evolve.h, Ekart 2007), or variations of a start chart, and
+// everything a hand knitter or a machine needs.
+//
+// Input: the job file (its parameters are already merged into the request, see convert.h) or
+// "-". Parameters: lace_params.h. Writes into the output folder, each file atomically:
+//   chart.json        {"rows": [[symbol, ...], ...], "cast_on", "repeats_wide",
+//                     "repeats_high"}: row 0 the first knitted, each row right to left as a
+//                     knitter reads it, purl rows omitted (lace_chart_json.h)
+//   chart.svg         the chart with the standard symbols and a legend (lace_chart.h)
+//   chart.pdf         the same, printable (A4)
+//   instructions.txt  written row-by-row instructions (algorithms/lace/instructions.h); they
+//                     parse back into the chart
+//   lace.k            knitout for a V-bed machine: lace by transfers with racking
+//   preview.png       the fabric, repeats_wide x repeats_high repeats (algorithms/lace/preview.h)
+//   report.json       fitness terms and weights, constraint check, stitch counts, generations
+//                     and the best score per generation, what the lace carriage of a Brother
+//                     machine (AYAB) can and cannot do with the chart and why, params, timings
+// Thread-safe per request (no shared state).
+#pragma once
+
+#include "daemon/convert/convert.h"
+
+namespace atelier {
+
+// Throws ParamError (parameters, an unreadable start chart) and ConvertError (outputs).
+ConvertResult convert_lace(const ConvertRequest& request);
+
+}  // namespace atelier
