@@ -49,7 +49,12 @@ struct KnitPlan {
   std::vector<Bytes> passes;           // needle data of each carriage pass, in knitting order
   std::vector<int> pattern_row;        // pattern.png row that each pass belongs to
   std::vector<uint8_t> colour;         // colour index sent with each pass (0 or 1)
-  int passes_per_row = 1;
+  int passes_per_row = 1;              // 0: varies per row (lace); pattern_row says which
+  // Lace plans (lace_plan.h) only; empty for plan_knitting(), where every pass is the knit
+  // carriage's. Per pass: the carriage the operator must use, and what the pass does
+  // ("row 3 (RS): lace carriage, left to right, transfers").
+  std::vector<Carriage> carriage;
+  std::vector<std::string> note;
 };
 
 // `pattern`: CV_8UC1, 1 = contrast, 0 = background (pattern.png inverted: black -> 1).

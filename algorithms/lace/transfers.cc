@@ -1,0 +1,208 @@
+#include "algorithms/lace/transfers.h"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+namespace atelier::lace {
+
+RowTransfers row_transfers(const Row& row) {
+  RowTransfers t;
+  t.produced = produced(row);
+  t.consumed = consumed(row);
+  t.target.reserve(static_cast<size_t>(t.consumed));
+  t.layer.reserve(static_cast<size_t>(t.consumed));
+  t.stack.resize(row.size());
+  int s = 0;
+  for (int o = 0; o < static_cast<int>(row.size()); ++o) {
+    // Layers of the symbol's stitches in knitting order (see the header).
+    std::vector<int> layers;
+    switch (row[static_cast<size_t>(o)]) {
+      case Symbol::yo: break;
+      case Symbol::k: layers = {0}; break;
+      case Symbol::k2tog: layers = {0, 1}; break;
+      case Symbol::ssk: layers = {1, 0}; break;
+      case Symbol::sk2p: layers = {2, 0, 1}; break;
+    }
+    auto& stack = t.stack[static_cast<size_t>(o)];
+    stack.assign(layers.size(), 0);
+    for (size_t i = 0; i < layers.size(); ++i, ++s) {
+      t.target.push_back(o);
+      t.layer.push_back(layers[i]);
+      stack[static_cast<size_t>(layers[i])] = s;
+    }
+  }
+  return t;
+}
+
+Row tile_row(const Row& row, int times) {
+  if (times < 1) throw std::invalid_argument("lace: a row is repeated at least once");
+  Row out;
+  out.reserve(row.size() * static_cast<size_t>(times));
+  for (int i = 0; i < times; ++i) out.insert(out.end(), row.begin(), row.end());
+  return out;
+}
+
+std::string rs_row_name(int r) { return "row " + std::to_string(2 * r + 1) + " (RS)"; }
+
+namespace {
+
+// Stitch o of a tiled row as the knitter names it in the chart row: "stitch 3 (k2tog)".
+std::string stitch_name(const Row& row, int o) {
+  const int w = static_cast<int>(row.size());
+  const int i = o % w;
+  return "stitch " + std::to_string(i + 1) + " (" + std::string(name(row[static_cast<size_t>(i)])) + ")";
+}
+
+// Whether the decrease at needle o can be stacked by single-needle moves that arrive on top:
+// a stitch already on needle o must be the bottom one, stitches from one side arrive nearest
+// first, so their layers must grow with the distance.
+bool stack_reachable(const std::vector<int>& stack, int o) {
+  int last_left = o, last_right = o;  // nearest position that has arrived from each side
+  for (size_t layer = 0; layer < stack.size(); ++layer) {
+    const int s = stack[layer];
+    if (s == o) {
+      if (layer != 0) return false;
+    } else if (s < o) {
+      if (s >= last_left) return false;
+      last_left = s;
+    } else {
+      if (s <= last_right) return false;
+      last_right = s;
+    }
+  }
+  return true;
+}
+
+// Greedy schedule: each pass moves every stitch that may move in the pass's direction. Stitches
+// moving the same way are never adjacent (one could not move onto the other), so the selection
+// is always legal. Returns false when a row stalls (only for rows the static checks missed).
+bool simulate(const RowTransfers& t, std::vector<LacePass>& passes) {
+  const int w = t.consumed;
+  std::vector<int> pos(static_cast<size_t>(w));
+  std::vector<std::vector<int>> bed(static_cast<size_t>(w));
+  for (int s = 0; s < w; ++s) {
+    pos[static_cast<size_t>(s)] = s;
+    bed[static_cast<size_t>(s)].push_back(s);
+  }
+  auto done = [&](int s) { return pos[static_cast<size_t>(s)] == t.target[static_cast<size_t>(s)]; };
+  auto all_done = [&] {
+    for (int s = 0; s < w; ++s)
+      if (!done(s)) return false;
+    return true;
+  };
+  auto settled = [&](int q) {  // every loop on needle q is at home
+    for (int s : bed[static_cast<size_t>(q)])
+      if (!done(s)) return false;
+    return true;
+  };
+  auto movable = [&](int s, int dir) {
+    const int p = pos[static_cast<size_t>(s)], goal = t.target[static_cast<size_t>(s)];
+    if (p == goal || (goal > p ? 1 : -1) != dir) return false;
+    const int q = p + dir;
+    if (q < 0 || q >= w) return false;
+    const auto& there = bed[static_cast<size_t>(q)];
+    if (q != goal) return there.empty();
+    return settled(q) && static_cast<int>(there.size()) == t.layer[static_cast<size_t>(s)];
+  };
+
+  int dir = 1;  // parked left: the first pass goes left -> right
+  int idle = 0;
+  while (!all_done()) {
+    LacePass pass;
+    pass.direction = dir > 0 ? LaceDirection::left_to_right : LaceDirection::right_to_left;
+    std::vector<int> moving;
+    for (int s = 0; s < w; ++s) {
+      if (!movable(s, dir)) continue;
+      const int p = pos[static_cast<size_t>(s)];
+      if (!pass.needles.empty() && p - pass.needles.back() < 2) continue;  // never adjacent
+      pass.needles.push_back(p);
+      moving.push_back(s);
+    }
+    for (int s : moving) {
+      const int p = pos[static_cast<size_t>(s)];
+      auto& from = bed[static_cast<size_t>(p)];
+      from.erase(std::find(from.begin(), from.end(), s));
+      pos[static_cast<size_t>(s)] = p + dir;
+      bed[static_cast<size_t>(p + dir)].push_back(s);
+    }
+    idle = moving.empty() ? idle + 1 : 0;
+    passes.push_back(std::move(pass));
+    if (idle >= 2) return false;
+    dir = -dir;
+  }
+  if (passes.size() % 2 != 0) passes.push_back(LacePass{LaceDirection::right_to_left, {}});
+  return true;
+}
+
+}  // namespace
+
+LaceRowSchedule schedule_lace_row(const Row& row, int repeats, int chart_row, const CarriageLimits& limits) {
+  LaceRowSchedule out;
+  const std::string where = rs_row_name(chart_row);
+  if (row.empty()) {
+    out.problems.push_back(where + " has no stitches");
+    return out;
+  }
+  if (consumed(row) != produced(row)) {
+    out.problems.push_back(where + " makes " + std::to_string(produced(row)) + " stitches from " +
+                           std::to_string(consumed(row)) +
+                           ": the lace carriage cannot change the width (needles are not added or taken "
+                           "away), so every row needs as many yarn-overs as its decreases take away");
+    return out;
+  }
+  const Row tiled = tile_row(row, repeats);
+  const RowTransfers t = row_transfers(tiled);
+
+  std::set<int> reported;  // chart stitches already named (repeats share them)
+  for (int o = 0; o < t.produced; ++o) {
+    const auto& stack = t.stack[static_cast<size_t>(o)];
+    if (stack.size() < 2 || stack_reachable(stack, o)) continue;
+    if (!reported.insert(o % static_cast<int>(row.size())).second) continue;
+    out.problems.push_back(
+        where + ", " + stitch_name(row, o) +
+        ": its stitches would have to arrive in the wrong order -- the lace carriage always lays the "
+        "moved stitch on top, so this decrease would come out slanting the other way (a yarn-over "
+        "before a k2tog, or after an ssk, is the usual cause); work this row by hand or mirror the "
+        "decrease");
+  }
+  if (!out.problems.empty()) return out;
+
+  if (!simulate(t, out.passes)) {
+    out.passes.clear();
+    out.problems.push_back(where + ": the lace carriage cannot order these transfers (stitches would have "
+                                   "to pass each other)");
+    return out;
+  }
+  const int passes = static_cast<int>(out.passes.size());
+  if (passes > limits.max_passes_per_row) {
+    // The longest run of stitches shifted the same way: what makes the row slow.
+    int best_from = 0, best_len = 0;
+    for (int s = 0; s < t.consumed;) {
+      const int d = t.target[static_cast<size_t>(s)] - s;
+      int e = s + 1;
+      if (d != 0) {
+        while (e < t.consumed) {
+          const int de = t.target[static_cast<size_t>(e)] - e;
+          if (de == 0 || (de > 0) != (d > 0)) break;
+          ++e;
+        }
+        if (e - s > best_len) best_len = e - s, best_from = s;
+      }
+      s = e;
+    }
+    const int w = static_cast<int>(row.size());
+    const int first = t.target[static_cast<size_t>(best_from)] % w + 1;
+    const int last = t.target[static_cast<size_t>(best_from + best_len - 1)] % w + 1;
+    out.problems.push_back(where + " needs " + std::to_string(passes) +
+                           " lace-carriage passes, more than the " + std::to_string(limits.max_passes_per_row) +
+                           " allowed per row: " + std::to_string(best_len) + " stitches (stitches " +
+                           std::to_string(std::min(first, last)) + " to " + std::to_string(std::max(first, last)) +
+                           ") lie between a yarn-over and its decrease and each must be shifted one needle "
+                           "per pass; move the yarn-over nearer to its decrease");
+    out.passes.clear();
+  }
+  return out;
+}
+
+}  // namespace atelier::lace
