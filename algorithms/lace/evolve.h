@@ -2,7 +2,8 @@
 // forests (stitch_tree.h; the number of trees = the repeat width, fixed; the rows fixed),
 // evaluated by fitness.h, bred by tournament selection on shared fitness (Goldberg's fitness
 // sharing keeps the population diverse), subtree crossover and the mutations of operators.h,
-// with elitism.
+// with elitism. Tournaments follow Deb's rule for constraints: fewer violations win, and among
+// equally many (feasible ones: none) the higher shared fitness wins.
 //
 // One generation: the `elites` best individuals by raw score are copied unchanged; every other
 // child is made from a tournament winner: with probability crossover_rate it gets a subtree of a

@@ -10,6 +10,10 @@ namespace atelier::lace {
 
 namespace {
 
+// consumes() as a table: evaluate() runs for every child of every generation.
+constexpr int kConsumes[] = {1, 0, 2, 2, 3};  // k, yo, k2tog, ssk, sk2p
+int over(Symbol s) { return kConsumes[static_cast<int>(s)]; }
+
 Symbol mirrored(Symbol s) {
   if (s == Symbol::k2tog) return Symbol::ssk;
   if (s == Symbol::ssk) return Symbol::k2tog;
@@ -95,7 +99,7 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
         if (r > 0 && chart.rows[r - 1][below] == Symbol::k) ++plain_on_plain;
       }
       if (s == mirrored(row[n - 1 - j])) ++mirror_matches;
-      below += consumes(s);
+      below += over(s);
     }
   }
 
@@ -111,9 +115,9 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
     for (std::size_t j = 0; j < row.size(); ++j) {
       if (row[j] != Symbol::k) reach[owner[j]] = rows - r;
       if (r > 0) {
-        for (int k = 0; k < consumes(row[j]); ++k) owner_below[below + k] = owner[j];
+        for (int k = 0; k < over(row[j]); ++k) owner_below[below + k] = owner[j];
       }
-      below += consumes(row[j]);
+      below += over(row[j]);
     }
     if (r > 0) owner.swap(owner_below);
   }

@@ -10,7 +10,9 @@ namespace atelier::lace {
 
 namespace {
 
-int children_of(const Node& n) { return n.cast_on ? 0 : consumes(n.symbol); }
+// consumes() as a table: this runs for every node of every child, every generation.
+constexpr int kConsumes[] = {1, 0, 2, 2, 3};  // k, yo, k2tog, ssk, sk2p
+int children_of(const Node& n) { return n.cast_on ? 0 : kConsumes[static_cast<int>(n.symbol)]; }
 
 std::size_t pick(std::size_t n, std::mt19937_64& rng) {
   return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
@@ -183,25 +185,23 @@ bool swap_trees(Forest& f, std::mt19937_64& rng) {
   return true;
 }
 
-void decode_into(const Forest& forest, Chart& chart, std::vector<std::uint32_t>& stack) {
+void decode_into(const Forest& forest, Chart& chart) {
   chart.rows.resize(forest.rows);
   for (Row& row : chart.rows) row.clear();
   for (const Tree& tree : forest.trees) {
-    // Depth first, children in knitting order: (node, row) pairs; cast-on leaves never pushed.
-    stack.clear();
-    stack.push_back(0);
-    stack.push_back(static_cast<std::uint32_t>(forest.rows - 1));
-    while (!stack.empty()) {
-      const int row = static_cast<int>(stack.back());
-      stack.pop_back();
-      const Node& node = tree.nodes[stack.back()];
-      stack.pop_back();
-      chart.rows[row].push_back(node.symbol);
-      if (row == 0) continue;
-      for (int c = consumes(node.symbol) - 1; c >= 0; --c) {
-        stack.push_back(node.first_child + c);
-        stack.push_back(static_cast<std::uint32_t>(row - 1));
+    // Breadth first layout: each level is a contiguous run of nodes, in knitting order, and the
+    // next level is as long as the stitches this level is worked over.
+    std::size_t begin = 0, end = 1;
+    for (int row = forest.rows - 1; row >= 0 && begin < end; --row) {
+      std::size_t below = 0;
+      Row& out = chart.rows[row];
+      for (std::size_t i = begin; i < end; ++i) {
+        const Symbol s = tree.nodes[i].symbol;
+        out.push_back(s);
+        below += kConsumes[static_cast<int>(s)];
       }
+      begin = end;
+      end += below;
     }
   }
 }

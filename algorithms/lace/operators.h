@@ -41,8 +41,9 @@ bool lengthen_plain_run(Forest& f, std::mt19937_64& rng);
 bool swap_trees(Forest& f, std::mt19937_64& rng);
 
 // decode(forest) without the checks, into `chart` (its rows' storage is reused). Only for
-// well-formed forests (e.g. ones built by encode(), random_forest() and these operators);
-// anything else is undefined behaviour. `stack` is scratch space.
-void decode_into(const Forest& forest, Chart& chart, std::vector<std::uint32_t>& stack);
+// well-formed forests laid out breadth first, each level's nodes contiguous and in order, as
+// encode(), random_tree(), random_forest() and these operators write them; anything else is
+// undefined behaviour.
+void decode_into(const Forest& forest, Chart& chart);
 
 }  // namespace atelier::lace

@@ -159,7 +159,6 @@ TEST(LaceOperators, EveryOperatorKeepsForestsWellFormed) {
   const char* names[] = {"crossover", "subtree_mutation", "flip_slant", "lengthen_plain_run",
                          "swap_trees"};
   int applied[5] = {};
-  std::vector<std::uint32_t> stack;
   Chart fast;
   for (int i = 0; i < 400; ++i) {
     const int width = 2 + i % 11, rows = 1 + i % 10;
@@ -180,7 +179,7 @@ TEST(LaceOperators, EveryOperatorKeepsForestsWellFormed) {
       ASSERT_EQ(forest_error(a), "") << names[op] << " at case " << i;
       ASSERT_EQ(a.rows, rows);
       ASSERT_EQ(static_cast<int>(a.trees.size()), width);
-      decode_into(a, fast, stack);
+      decode_into(a, fast);
       ASSERT_EQ(fast, decode(a)) << names[op];
       ASSERT_TRUE(knittable(fast, cast_on(a)));
     }

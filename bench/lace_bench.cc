@@ -1,0 +1,36 @@
+// Lace genetic programming (Ekart 2007): one whole evolution at the size, population
+// 500 x 200 generations, a 12-stitch x 16-row chart, 2 evaluation threads. Target: < 2 s.
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "algorithms/lace/evolve.h"
+
+namespace {
+
+using namespace atelier::lace;
+
+void BM_LaceEvolve(benchmark::State& state) {
+  EvolveParams p;
+  p.population = static_cast<int>(state.range(0));
+  p.generations = static_cast<int>(state.range(1));
+  p.threads = static_cast<int>(state.range(2));
+  double score = 0;
+  int feasible = 0;
+  for (auto _ : state) {
+    const EvolveResult r = evolve(p);
+    score = r.evaluation.score;
+    feasible = r.feasible_in_final_population;
+    benchmark::DoNotOptimize(r.chart.rows.data());
+  }
+  state.SetLabel("pop " + std::to_string(p.population) + " x " + std::to_string(p.generations) +
+                 " gen, " + std::to_string(p.width) + "x" + std::to_string(p.rows) + " chart, " +
+                 std::to_string(p.threads) + " threads");
+  state.counters["best_score"] = score;
+  state.counters["feasible_final"] = feasible;
+  state.SetItemsProcessed(state.iterations() * p.population * p.generations);
+}
+
+BENCHMARK(BM_LaceEvolve)->Args({500, 200, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
