@@ -71,6 +71,7 @@ struct Individual {
   Chart chart;  // decode(forest)
   Evaluation evaluation;
   ChartSignature signature;
+  bool evaluated = false;  // chart, evaluation and signature are those of forest
 };
 
 void require(bool ok, const std::string& what) {
@@ -132,6 +133,7 @@ class Run {
     if (p_.start) {
       pop_.resize(1);
       pop_[0].forest = encode(*p_.start, p_.start_cast_on);
+      pop_[0].evaluated = false;
     } else {
       random_population();
     }
@@ -147,7 +149,7 @@ class Run {
     while (generation < p_.generations) {
       breed();
       pop_.swap(next_);
-      evaluate_all(static_cast<std::size_t>(p_.elites));
+      evaluate_all(0);  // elites and unchanged copies are skipped
       record();
       report(++generation);
     }
@@ -174,6 +176,7 @@ class Run {
     for (std::size_t i = 0; i < pop_.size(); ++i) {
       pop_[i].forest = i % 2 == 0 ? encode(random_feasible_chart(width_, rows_, rng_), width_)
                                   : random_forest(width_, rows_, rng_);
+      pop_[i].evaluated = false;
     }
   }
 
@@ -184,6 +187,7 @@ class Run {
     const bool feasible = pop_[0].evaluation.constraints.ok();
     pop_.resize(p_.population);
     for (std::size_t i = 1; i < pop_.size(); ++i) {
+      pop_[i].evaluated = false;
       if (!feasible && i % 2 == 1) {
         pop_[i].forest = encode(random_feasible_chart(width_, rows_, rng_), width_);
         continue;
@@ -196,7 +200,9 @@ class Run {
 
   void evaluate_all(std::size_t from) {
     parallel_for(pop_.size() - from, p_.threads, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = from + begin; i < from + end; ++i) evaluate_one(pop_[i]);
+      for (std::size_t i = from + begin; i < from + end; ++i) {
+        if (!pop_[i].evaluated) evaluate_one(pop_[i]);
+      }
     });
   }
 
@@ -212,6 +218,7 @@ class Run {
       e.score = score(e.constraints, e.objectives, p_.weights);
     }
     signature_into(ind.chart, stride_, ind.signature);
+    ind.evaluated = true;
   }
 
   // Best raw score of the generation, and the best feasible individual ever (first seen wins
@@ -283,10 +290,15 @@ class Run {
     for (std::size_t e = 0; e < elites; ++e) next_[e] = pop_[order[e]];
     std::uniform_real_distribution<double> coin(0.0, 1.0);
     for (std::size_t i = elites; i < next_.size(); ++i) {
+      const std::size_t parent = tournament();
       Forest& child = next_[i].forest;
-      child = pop_[tournament()].forest;  // reuses the child's storage
-      if (coin(rng_) < p_.crossover_rate) crossover(child, pop_[tournament()].forest, rng_);
-      if (coin(rng_) < p_.mutation_rate) mutate(child, rng_);
+      child = pop_[parent].forest;  // reuses the child's storage
+      bool changed = false;
+      if (coin(rng_) < p_.crossover_rate) changed = crossover(child, pop_[tournament()].forest, rng_);
+      if (coin(rng_) < p_.mutation_rate) changed = mutate(child, rng_) || changed;
+      // An unchanged copy keeps its parent's evaluation: evaluating it again would give the same.
+      if (changed) next_[i].evaluated = false;
+      else next_[i] = pop_[parent];
     }
   }
 

@@ -18,15 +18,31 @@ std::size_t pick(std::size_t n, std::mt19937_64& rng) {
   return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
 }
 
-// Chart row of every node of the tree (-1 for cast-on leaves); children follow their parent,
-// so one forward sweep sets every level.
-void levels(const Tree& tree, int rows, std::vector<int>& out) {
-  out.assign(tree.nodes.size(), 0);
-  out[0] = rows - 1;
-  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
-    const Node& n = tree.nodes[i];
-    for (int c = 0; c < children_of(n); ++c) out[n.first_child + c] = out[i] - 1;
+// The node range [begin, end) of chart row `row` in a tree laid out breadth first (every level
+// contiguous, as all trees here are); empty when the tree has no stitch that deep.
+std::pair<std::uint32_t, std::uint32_t> level_range(const Tree& tree, int rows, int row) {
+  std::uint32_t begin = 0, end = 1;
+  for (int level = rows - 1; level > row && begin < end; --level) {
+    std::uint32_t below = 0;
+    for (std::uint32_t i = begin; i < end; ++i) below += children_of(tree.nodes[i]);
+    begin = end;
+    end += below;
   }
+  return {begin, end};
+}
+
+// The chart row of node `index` (breadth-first layout).
+int level_of(const Tree& tree, int rows, std::uint32_t index) {
+  std::uint32_t begin = 0, end = 1;
+  int level = rows - 1;
+  while (index >= end) {
+    std::uint32_t below = 0;
+    for (std::uint32_t i = begin; i < end; ++i) below += children_of(tree.nodes[i]);
+    begin = end;
+    end += below;
+    --level;
+  }
+  return level;
 }
 
 struct Place {
@@ -111,28 +127,29 @@ bool replace_tree(Forest& f, std::size_t t, Tree&& fresh) {
 }  // namespace
 
 bool crossover(Forest& a, const Forest& b, std::mt19937_64& rng) {
-  std::vector<int> level_a, level_b;
-  std::vector<std::vector<int>> levels_b(b.trees.size());
-  for (std::size_t t = 0; t < b.trees.size(); ++t) levels(b.trees[t], b.rows, levels_b[t]);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges(b.trees.size());
   // A few tries: b may have no stitch at the chosen row (its trees may end in yarn-overs).
   for (int attempt = 0; attempt < 4; ++attempt) {
     const Place p = random_stitch(a, rng);
-    levels(a.trees[p.tree], a.rows, level_a);
-    const int row = level_a[p.node];
-    auto at_row = [&](std::size_t t, std::uint32_t i) { return levels_b[t][i] == row; };
-    const std::size_t candidates = count(b, at_row);
+    const int row = level_of(a.trees[p.tree], a.rows, p.node);
+    std::size_t candidates = 0;
+    for (std::size_t t = 0; t < b.trees.size(); ++t) {
+      ranges[t] = level_range(b.trees[t], b.rows, row);
+      candidates += ranges[t].second - ranges[t].first;
+    }
     if (candidates == 0) continue;
-    const Place q = kth(b, pick(candidates, rng), at_row);
-    return replace_tree(a, p.tree, splice(a.trees[p.tree], p.node, b.trees[q.tree], q.node));
+    std::size_t k = pick(candidates, rng);
+    std::size_t t = 0;
+    for (std::size_t size; k >= (size = ranges[t].second - ranges[t].first); ++t) k -= size;
+    const std::uint32_t from = ranges[t].first + static_cast<std::uint32_t>(k);
+    return replace_tree(a, p.tree, splice(a.trees[p.tree], p.node, b.trees[t], from));
   }
   return false;
 }
 
 bool subtree_mutation(Forest& f, std::mt19937_64& rng) {
   const Place p = random_stitch(f, rng);
-  std::vector<int> level;
-  levels(f.trees[p.tree], f.rows, level);
-  const Tree fresh = random_tree(level[p.node], rng);
+  const Tree fresh = random_tree(level_of(f.trees[p.tree], f.rows, p.node), rng);
   return replace_tree(f, p.tree, splice(f.trees[p.tree], p.node, fresh, 0));
 }
 

@@ -1,8 +1,9 @@
 // The genetic operators on forests (Ekart 2007, section 5 and the specialised mutations of
 // section 8), and a fast decode for the forests they build.
 //
-// Every operator takes a well-formed full-depth forest (forest_error() == "") and leaves it
-// well-formed, with the same rows and the same number of trees; what changes is the stitches
+// Every operator takes a well-formed full-depth forest (forest_error() == "") laid out breadth
+// first (each level's nodes contiguous and in order, as encode(), random_forest() and these
+// operators write them) and leaves it so, with the same rows and the same number of trees; what changes is the stitches
 // (so the cast-on, i.e. eq. 1's balance, may change). Each returns whether it changed
 // anything: false means no place to apply it was found (or the change would have left no
 // path down to the cast-on, i.e. no cast-on stitch at all), and the forest is untouched.
