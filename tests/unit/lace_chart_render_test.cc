@@ -1,0 +1,176 @@
+// The printable lace chart (chart.svg, chart.pdf): files are written; the drawing shows each
+// symbol where the chart puts it (row 1 at the bottom, stitch 1 on the right), with a legend.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <unistd.h>
+
+#include "algorithms/lace/chart.h"
+#include "algorithms/lace/symbols.h"
+#include "daemon/convert/lace_chart.h"
+
+namespace atelier {
+namespace {
+
+using lace::Chart;
+using lace::Row;
+using lace::Symbol;
+
+Row row(std::initializer_list<const char*> cells) {
+  Row r;
+  for (const char* c : cells) r.push_back(lace::parse_symbol(c));
+  return r;
+}
+
+Row knit(int n) { return Row(static_cast<std::size_t>(n), Symbol::k); }
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int count(const std::string& text, const std::string& needle) {
+  int n = 0;
+  for (std::size_t p = text.find(needle); p != std::string::npos; p = text.find(needle, p + 1)) ++n;
+  return n;
+}
+
+class LaceChartRender : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("atelier_lace_chart_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+// Every symbol, and a row narrower than the others (6 -> 7 -> 6 stitches).
+Chart sampler() {
+  return Chart{{row({"k", "yo", "k2tog", "yo", "ssk", "k"}),       // 6 over 6
+                row({"k", "yo", "k", "k", "k", "k", "k"}),        // 7 over 6
+                row({"k", "sk2p", "yo", "k", "k", "k"})}};
+}
+
+// Ink (dark pixels) in a small square around the point (fx, fy) of a cell, fractions of its
+// size from its top-left corner.
+double ink(const cv::Mat& img, const cv::Rect2d& cell, double fx, double fy) {
+  const int x = static_cast<int>(cell.x + fx * cell.width), y = static_cast<int>(cell.y + fy * cell.height);
+  const int r = std::max(1, static_cast<int>(cell.width * 0.06));
+  cv::Mat gray;
+  cv::cvtColor(img(cv::Rect(x - r, y - r, 2 * r + 1, 2 * r + 1)), gray, cv::COLOR_BGR2GRAY);
+  return cv::countNonZero(gray < 128) / static_cast<double>(gray.total());
+}
+
+TEST_F(LaceChartRender, SymbolsSitInTheirCells) {
+  const Chart c = sampler();
+  ASSERT_TRUE(lace::knittable(c, 6)) << lace::knittable(c, 6).why;
+  const LaceChartRaster r = render_lace_chart_png(c, 6, {"sampler"});
+  ASSERT_EQ(r.cells.size(), 3u);
+  ASSERT_EQ(r.cells[1].size(), 7u);
+  // Row 1 is at the bottom, stitch 1 (knitting order 0) on the right.
+  EXPECT_GT(r.cells[0][0].y, r.cells[1][0].y);
+  EXPECT_GT(r.cells[0][0].x, r.cells[0][1].x);
+  const cv::Mat& img = r.image;
+  for (std::size_t ri = 0; ri < c.rows.size(); ++ri) {
+    for (std::size_t j = 0; j < c.rows[ri].size(); ++j) {
+      const cv::Rect2d& cell = r.cells[ri][j];
+      const std::string where = "row " + std::to_string(2 * ri + 1) + " stitch " + std::to_string(j + 1);
+      switch (c.rows[ri][j]) {
+        case Symbol::k:  // an empty square
+          EXPECT_EQ(ink(img, cell, 0.5, 0.5), 0.0) << where;
+          EXPECT_EQ(ink(img, cell, 0.3, 0.3), 0.0) << where;
+          EXPECT_EQ(ink(img, cell, 0.7, 0.7), 0.0) << where;
+          break;
+        case Symbol::yo:  // a circle: ink on the ring, none in the middle
+          EXPECT_GT(ink(img, cell, 0.5, 0.2), 0.2) << where;
+          EXPECT_GT(ink(img, cell, 0.8, 0.5), 0.2) << where;
+          EXPECT_EQ(ink(img, cell, 0.5, 0.5), 0.0) << where;
+          break;
+        case Symbol::k2tog:  // "/": the rising diagonal
+          EXPECT_GT(ink(img, cell, 0.3, 0.7), 0.2) << where;
+          EXPECT_GT(ink(img, cell, 0.7, 0.3), 0.2) << where;
+          EXPECT_EQ(ink(img, cell, 0.3, 0.3), 0.0) << where;
+          EXPECT_EQ(ink(img, cell, 0.7, 0.7), 0.0) << where;
+          break;
+        case Symbol::ssk:  // "\": the falling diagonal
+          EXPECT_GT(ink(img, cell, 0.3, 0.3), 0.2) << where;
+          EXPECT_GT(ink(img, cell, 0.7, 0.7), 0.2) << where;
+          EXPECT_EQ(ink(img, cell, 0.3, 0.7), 0.0) << where;
+          EXPECT_EQ(ink(img, cell, 0.7, 0.3), 0.0) << where;
+          break;
+        case Symbol::sk2p:  // inverted V with a vertical line
+          EXPECT_GT(ink(img, cell, 0.5, 0.7), 0.2) << where;
+          EXPECT_GT(ink(img, cell, 0.26, 0.7), 0.2) << where;
+          EXPECT_GT(ink(img, cell, 0.74, 0.7), 0.2) << where;
+          EXPECT_EQ(ink(img, cell, 0.22, 0.3), 0.0) << where;
+          EXPECT_EQ(ink(img, cell, 0.78, 0.3), 0.0) << where;
+          break;
+      }
+    }
+  }
+  // Narrower rows: grey "no stitch" cells at the left end.
+  const cv::Rect2d left_of_row1(r.cells[0][5].x - r.cells[0][5].width, r.cells[0][5].y,
+                                r.cells[0][5].width, r.cells[0][5].height);
+  const cv::Vec3b grey = img.at<cv::Vec3b>(cv::Point(static_cast<int>(left_of_row1.x + left_of_row1.width / 2),
+                                                     static_cast<int>(left_of_row1.y + left_of_row1.height / 2)));
+  EXPECT_GT(grey[1], 100);
+  EXPECT_LT(grey[1], 200);
+}
+
+TEST_F(LaceChartRender, SvgIsWrittenWithTitleAndLegend) {
+  const auto svg = dir_ / "chart.svg";
+  write_lace_chart_svg(sampler(), 6, {"sampler"}, svg);
+  const std::string text = slurp(svg);
+  EXPECT_TRUE(text.starts_with("<?xml")) << text.substr(0, 60);
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  EXPECT_NE(text.find("</svg>"), std::string::npos);
+  EXPECT_NE(text.find("<title>sampler - lace chart</title>"), std::string::npos);
+  for (const char* word : {"yarn over", "knit 2 together", "right-slanting", "left-slanting",
+                           "double decrease", "Multiple of 6 sts"})
+    EXPECT_NE(text.find(word), std::string::npos) << word;
+}
+
+TEST_F(LaceChartRender, PdfIsA4AndSplitsBigCharts) {
+  const auto small = dir_ / "small.pdf";
+  EXPECT_EQ(write_lace_chart_pdf(sampler(), 6, {"sampler"}, small), 1);
+  const std::string one = slurp(small);
+  EXPECT_TRUE(one.starts_with("%PDF"));
+  EXPECT_EQ(count(one, "/Type /Page\n") + count(one, "/Type /Page "), 1);
+  EXPECT_NE(one.find("595.27"), std::string::npos);  // A4 width in points
+  // 60 stitches x 80 rows: at 4 mm cells that is 240 x 320 mm, more than an A4 page holds
+  // both ways -> 2 columns of pages x 2 or more rows of pages.
+  Chart big;
+  for (int r = 0; r < 80; ++r) big.rows.push_back(knit(60));
+  const auto bigf = dir_ / "big.pdf";
+  const int pages = write_lace_chart_pdf(big, 60, {"big"}, bigf);
+  EXPECT_GE(pages, 4);
+  const std::string many = slurp(bigf);
+  EXPECT_TRUE(many.starts_with("%PDF"));
+  EXPECT_EQ(count(many, "/Type /Page\n") + count(many, "/Type /Page "), pages);
+}
+
+TEST_F(LaceChartRender, WriteFailuresThrowWithoutThePath) {
+  const auto bad = dir_ / "no" / "such" / "dir" / "chart.pdf";
+  try {
+    write_lace_chart_pdf(sampler(), 6, {}, bad);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(write_lace_chart_svg(sampler(), 6, {}, dir_ / "no" / "chart.svg"), std::runtime_error);
+  EXPECT_THROW(write_lace_chart_svg(sampler(), 5, {}, dir_ / "chart.svg"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace atelier
