@@ -349,22 +349,39 @@ int distance(const ChartSignature& a, const ChartSignature& b) {
 
 std::vector<double> niche_counts(const std::vector<ChartSignature>& population, double sigma,
                                  double alpha, int threads) {
-  std::vector<double> m(population.size(), 1.0);
-  if (sigma <= 0) return m;
-  // sh(d) for every integer distance below sigma, so the pair loop only looks it up.
-  std::vector<double> sh;
-  for (int d = 0; d < sigma; ++d) sh.push_back(1.0 - std::pow(d / sigma, alpha));
+  const std::size_t n = population.size();
+  std::vector<double> m(n, 1.0);
+  if (sigma <= 0 || n == 0) return m;
+  // sh(d) for every integer distance below sigma, in fixed point (2^-32): integer sums do not
+  // depend on their order, so the pairs can be split among threads and each pair looked at
+  // once (d_ij = d_ji) with a result independent of the thread count.
+  constexpr double kOne = 4294967296.0;
+  std::vector<std::int64_t> sh;
+  for (int d = 0; d < sigma; ++d) sh.push_back(std::llround((1.0 - std::pow(d / sigma, alpha)) * kOne));
   const int limit = static_cast<int>(sh.size());
-  parallel_for(population.size(), std::max(1, threads), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      double sum = 0;
-      for (std::size_t j = 0; j < population.size(); ++j) {
-        const int d = distance_up_to(population[i], population[j], limit);
-        if (d < limit) sum += sh[d];
+  const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n));
+  std::vector<std::vector<std::int64_t>> sums(parts, std::vector<std::int64_t>(n, 0));
+  parallel_for(parts, static_cast<int>(parts), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t part = begin; part < end; ++part) {
+      std::vector<std::int64_t>& sum = sums[part];
+      // Interleaved rows of the triangle i < j keep the parts about equally long.
+      for (std::size_t i = part; i < n; i += parts) {
+        sum[i] += sh[0];
+        for (std::size_t j = i + 1; j < n; ++j) {
+          const int d = distance_up_to(population[i], population[j], limit);
+          if (d < limit) {
+            sum[i] += sh[d];
+            sum[j] += sh[d];
+          }
+        }
       }
-      m[i] = sum;
     }
   });
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int64_t total = 0;
+    for (std::size_t part = 0; part < parts; ++part) total += sums[part][i];
+    m[i] = static_cast<double>(total) / kOne;
+  }
   return m;
 }
 

@@ -83,7 +83,8 @@ int distance(const ChartSignature& a, const ChartSignature& b);
 
 // Goldberg's niche counts: m_i = sum over j (i itself included) of sh(d_ij), sh(d) = 1 -
 // (d / sigma)^alpha for d < sigma, else 0. sigma <= 0 gives every m_i = 1 (no sharing).
-// Computed on `threads` threads; the result does not depend on their number.
+// sh is summed in fixed point (units of 2^-32, so exact for identical charts). Computed on
+// `threads` threads; the result does not depend on their number.
 std::vector<double> niche_counts(const std::vector<ChartSignature>& population, double sigma,
                                  double alpha, int threads);
 

@@ -33,8 +33,9 @@ int adjacent_excess(const Row& row) {
   if (start < 0) return n;  // nothing but yarn-overs: an unbounded run when repeated
   // Starting just after a non-yo cell, no run is cut by the row's end.
   int excess = 0, run = 0;
-  for (int step = 1; step <= n; ++step) {
-    if (row[(start + step) % n] == Symbol::yo) {
+  for (int step = 1, i = start + 1; step <= n; ++step, ++i) {
+    if (i == n) i = 0;
+    if (row[i] == Symbol::yo) {
       ++run;
     } else {
       excess += std::max(0, run - kMaxAdjacentYarnOvers);
@@ -69,7 +70,9 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
     if (chart.rows[r].empty()) {
       throw std::invalid_argument("lace: evaluate: row " + std::to_string(r) + " is empty");
     }
-    if (r > 0 && consumed(chart.rows[r]) != produced(chart.rows[r - 1])) {
+    int need = 0;
+    for (Symbol x : chart.rows[r]) need += over(x);
+    if (r > 0 && need != produced(chart.rows[r - 1])) {
       throw std::invalid_argument("lace: evaluate: row " + std::to_string(r) +
                                   " is not worked over the stitches row " + std::to_string(r - 1) +
                                   " makes");
@@ -79,7 +82,9 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
   Evaluation e;
   Constraints& c = e.constraints;
   const int first = produced(chart.rows.front());
-  c.balance_error = std::abs(cast_on - consumed(chart.rows.front())) +
+  int first_need = 0;
+  for (Symbol x : chart.rows.front()) first_need += over(x);
+  c.balance_error = std::abs(cast_on - first_need) +
                     std::abs(cast_on - produced(chart.rows.back()));
 
   long cells = 0, yarn_overs = 0, plain = 0, plain_on_plain = 0, mirror_matches = 0;
