@@ -3,7 +3,8 @@
 // evaluated by fitness.h, bred by tournament selection on shared fitness (Goldberg's fitness
 // sharing keeps the population diverse), subtree crossover and the mutations of operators.h,
 // with elitism. Tournaments follow Deb's rule for constraints: fewer violations win, and among
-// equally many (feasible ones: none) the higher shared fitness wins.
+// equally many (feasible ones: none) the higher shared fitness wins. Shared fitness = (score -
+// the population's lowest score + a floor of 1% of the score range) / niche count.
 //
 // One generation: the `elites` best individuals by raw score are copied unchanged; every other
 // child is made from a tournament winner: with probability crossover_rate it gets a subtree of a
@@ -14,7 +15,8 @@
 // Reproducible: one std::mt19937_64 seeded from `seed` makes every random choice, on the
 // calling thread, in a fixed order. Evaluation and niche counts run on `threads` threads over a
 // fixed partition of the population, and neither depends on the partition, so the same seed
-// and parameters give the identical chart whatever the thread count or timing.
+// and parameters give the identical chart whatever the thread count or timing. evolve() shares
+// no state between calls, so several may run at once (each starts its own threads).
 #pragma once
 
 #include <cstdint>
@@ -31,7 +33,8 @@ struct EvolveParams {
   int width = 12, rows = 16;  // stitches per repeat (= trees = cast-on), chart rows (RS rows)
   int population = 500, generations = 200;
   Weights weights;
-  int width_tolerance = 2;  // stitches an intermediate row may differ from the cast-on
+  // Stitches an intermediate row may differ from the cast-on and from the first row.
+  int width_tolerance = 2;
   std::uint64_t seed = 1;
   int tournament = 4, elites = 2;
   double crossover_rate = 0.8, mutation_rate = 0.2;  // see the file comment
@@ -58,7 +61,9 @@ struct EvolveResult {
   int cast_on = 0;  // == the width
   Evaluation evaluation;  // of chart, constraints.extra included
   int generations_run = 0;
-  std::vector<double> best_score;  // best raw score of the population, generation 0..run
+  // Best raw score of the population in generation 0, 1, ..., generations_run (generation 0
+  // of a start chart is the start chart alone).
+  std::vector<double> best_score;
   int feasible_in_final_population = 0;
 };
 
