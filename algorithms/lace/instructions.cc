@@ -184,7 +184,9 @@ std::string write_instructions(const Chart& chart, int cast_on, const Instructio
   if (const Knittability k = knittable(chart, cast_on); !k) throw std::invalid_argument(k.why);
   const int rs_rows = static_cast<int>(chart.rows.size());
   const std::string n = std::to_string(cast_on);
-  std::string out = info.title.empty() ? "Lace pattern\n" : "Lace pattern: " + info.title + "\n";
+  std::string title = trim(info.title);
+  std::replace_if(title.begin(), title.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
+  std::string out = title.empty() ? "Lace pattern\n" : "Lace pattern: " + title + "\n";
   out += "Multiple of " + n + " stitches; " + std::to_string(2 * rs_rows) + "-row repeat (" +
          std::to_string(rs_rows) + " right-side row" + (rs_rows == 1 ? "" : "s") + " charted).\n";
   out += "Cast on a multiple of " + n + " stitches.\n\n";
@@ -194,7 +196,13 @@ std::string write_instructions(const Chart& chart, int cast_on, const Instructio
            std::to_string(produced(row)) + " sts)\n";
     if (r == 0) out += "Row 2 and all WS rows: purl.\n";
   }
-  out += "Repeat rows 1-" + std::to_string(2 * rs_rows) + ".\n\n";
+  const int last = produced(chart.rows.back());
+  if (last == cast_on) {
+    out += "Repeat rows 1-" + std::to_string(2 * rs_rows) + ".\n\n";
+  } else {  // eq. 1 does not hold: the rows cannot be stacked again
+    out += "Work rows 1-" + std::to_string(2 * rs_rows) + " once (the last row leaves " +
+           std::to_string(last) + " sts per repeat, so the pattern does not repeat upward).\n\n";
+  }
   out +=
       "Abbreviations: k knit; yo yarn over; k2tog knit 2 together (right-slanting decrease); ssk\n"
       "slip, slip, knit (left-slanting decrease); sk2p slip 1, knit 2 together, pass slipped stitch\n"
@@ -252,7 +260,7 @@ ParsedInstructions parse_instructions(std::string_view text) {
       out.chart.rows.push_back(std::move(row));
       row_lines.push_back(line_no);
     } else if (low.starts_with("row 2 and all ws rows") || low.starts_with("lace pattern") ||
-               low.starts_with("repeat rows")) {
+               low.starts_with("repeat rows") || low.starts_with("work rows")) {
       continue;
     } else if (low.starts_with("abbreviations")) {
       in_abbreviations = true;  // the rest of the paragraph explains the abbreviations

@@ -3,14 +3,16 @@
 // takes exactly that text back to the chart.
 //
 // Format (write_instructions produces it, parse_instructions reads it):
-//   Lace pattern: <title>                    (or "Lace pattern" when the title is empty)
+//   Lace pattern: <title>                    (or "Lace pattern" when the title is empty;
+//                                            line breaks in the title become spaces)
 //   Multiple of N stitches; 2R-row repeat (R right-side rows charted).
 //   Cast on a multiple of N stitches.
 //   <blank>
 //   Row 1 (RS): <items>. (W sts)             one line per chart row r: "Row 2r+1 (RS)"
 //   Row 2 and all WS rows: purl.             (after row 1)
 //   Row 3 (RS): ...
-//   Repeat rows 1-2R.
+//   Repeat rows 1-2R.                        (or, when the last row is not as wide as the
+//                                            cast-on, "Work rows 1-2R once (...)")
 //   <blank>
 //   Abbreviations: ...                       (the rest of that paragraph is skipped on reading)
 // Items are in knitting order (Chart::rows[r][0] first), separated by ", ": "kN" for a run of N
@@ -44,7 +46,7 @@ struct ParsedInstructions {
   int cast_on = 0;
 };
 
-// Reads write_instructions' format back. Header, "Row 2 and all WS rows", "Repeat rows" and
+// Reads write_instructions' format back. Header, "Row 2 and all WS rows", "Repeat/Work rows" and
 // abbreviation lines are recognised and skipped, blank lines ignored, "Row N (RS):" matched
 // case-insensitively; rows must be consecutive odd numbers from 1. A "(W sts)" count, when
 // present, must equal the stitches the row makes. cast_on comes from "Cast on a multiple of N",

@@ -11,7 +11,7 @@ namespace atelier::lace {
 namespace {
 
 constexpr int kShift = 4;  // fillPoly fractional bits: sub-pixel outlines
-constexpr double kRelax = 0.5;  // how far each course moves toward even spacing
+constexpr double kRelax = 0.65; // how far each course moves toward even spacing
 constexpr double kLean = 0.6;   // a decrease's top is this many stitch widths right (k2tog) of its bottom
 
 cv::Scalar scaled(const cv::Vec3b& c, double f) {
@@ -155,7 +155,7 @@ cv::Mat render_preview(const Chart& chart, int cast_on, const PreviewOptions& o)
         int n = 0;
         if (j > 0) gap += std::abs(course[j - 1].centre.x - s.centre.x), ++n;
         if (j + 1 < course.size()) gap += std::abs(course[j + 1].centre.x - s.centre.x), ++n;
-        const double sw = std::clamp(n > 0 ? gap / n : w, 0.8 * w, 1.2 * w);
+        const double sw = std::clamp(n > 0 ? gap / n : w, 0.75 * w, 1.6 * w);
         const cv::Point2d at(s.centre.x, s.centre.y - 0.15 * layout.row_px);
         const double lean = s.symbol == Symbol::k2tog ? kLean * sw / h   // top to the right
                             : s.symbol == Symbol::ssk ? -kLean * sw / h  // top to the left

@@ -141,6 +141,18 @@ TEST(LaceInstructions, EveryRowShowsItsStitchCount) {
   EXPECT_TRUE(has_line(text, "Repeat rows 1-6.")) << text;
 }
 
+TEST(LaceInstructions, AChartEndingWiderIsWorkedOnce) {
+  const Chart wider{{row({"k", "yo", "k", "yo", "k"}), knit(5)}};
+  const std::string text = write_instructions(wider, 3, {"two\nlines"});
+  EXPECT_TRUE(has_line(text, "Lace pattern: two lines")) << text;
+  EXPECT_EQ(text.find("Repeat rows"), std::string::npos) << text;
+  EXPECT_TRUE(has_line(text, "Work rows 1-4 once (the last row leaves 5 sts per repeat, so the "
+                             "pattern does not repeat upward).")) << text;
+  const ParsedInstructions back = parse_instructions(text);
+  EXPECT_EQ(back.chart, wider);
+  EXPECT_EQ(back.cast_on, 3);
+}
+
 TEST(LaceInstructions, HandMadeChartsRoundTrip) {
   struct Case {
     Chart chart;
