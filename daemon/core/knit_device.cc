@@ -1,9 +1,13 @@
 #include "daemon/core/knit_device.h"
 
+#include <algorithm>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "daemon/convert/lace_chart_json.h"
 #include "daemon/core/log.h"
 #include "drivers/ayab/knit_plan.h"
+#include "drivers/ayab/lace_plan.h"
 
 namespace fs = std::filesystem;
 
@@ -16,7 +20,54 @@ std::string resume_hint(int64_t id, int rows_done) {
          std::to_string(rows_done + 1);
 }
 
+// A lace chart the lace carriage cannot knit; what() is the job's failure reason.
+class CannotKnit : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+LaceChartFile read_chart(const fs::path& dir) {
+  const fs::path file = dir / "chart.json";
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + " cannot be read");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(file.string() + ": not JSON (" + e.what() + ")");
+  }
+  return lace_chart_from_json(j, file.string());
+}
+
 }  // namespace
+
+KnitDevice::JobPlan KnitDevice::plan_job(const Job& job) const {
+  JobPlan out;
+  if (job.kind == "lace") {
+    const LaceChartFile chart = read_chart(job.output_dir);
+    ayab::LacePlanResult res =
+        ayab::plan_lace(chart.chart, chart.cast_on, chart.repeats_wide, chart.repeats_high, plan_params());
+    if (!res.plan) {
+      std::string why = "the lace carriage cannot knit this chart: " + res.problems.front();
+      if (res.problems.size() > 1) why += "; " + std::to_string(res.problems.size() - 1) + " more in report.json";
+      throw CannotKnit(why);
+    }
+    out.plan = std::move(*res.plan);
+    // pattern_row is the chart row of each pass, non-decreasing from 0.
+    const auto& rows = out.plan.pattern_row;
+    for (size_t p = 0; p < rows.size(); ++p)
+      if (p == 0 || rows[p] != rows[p - 1]) out.row_start.push_back(static_cast<int>(p));
+  } else {
+    cv::Mat image = cv::imread((fs::path(job.output_dir) / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw std::runtime_error(job.output_dir + "/pattern.png cannot be read");
+    cv::Mat pattern = image < 128;  // black = contrast = 1
+    pattern /= 255;
+    out.plan = ayab::plan_knitting(pattern, plan_params());
+    for (int r = 0; r < pattern.rows; ++r) out.row_start.push_back(r * out.plan.passes_per_row);
+  }
+  out.row_start.push_back(static_cast<int>(out.plan.passes.size()));
+  return out;
+}
 
 KnitDevice::KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
                        ayab::SessionTimeouts timeouts)
@@ -48,11 +99,15 @@ void KnitDevice::resume(int64_t job_id, int from_row) {
   if (from_row == 0)
     throw std::runtime_error("say which row to continue from: atelierctl resume " +
                              std::to_string(job_id) + " --from-row N");
-  cv::Mat pattern = cv::imread((fs::path(job->output_dir) / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
-  if (pattern.empty()) throw std::runtime_error(job_tag(job_id) + ": its pattern.png is gone");
-  if (from_row < 1 || from_row > pattern.rows)
-    throw std::runtime_error("row " + std::to_string(from_row) + " is outside the pattern (rows 1 to " +
-                             std::to_string(pattern.rows) + ")");
+  int rows = 0;
+  try {
+    rows = plan_job(*job).rows();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(job_tag(job_id) + ": " + e.what());
+  }
+  if (from_row < 1 || from_row > rows)
+    throw std::runtime_error("row " + std::to_string(from_row) + " is outside the " +
+                             (job->kind == "lace" ? "chart" : "pattern") + " (rows 1 to " + std::to_string(rows) + ")");
   {
     std::lock_guard lock(mu_);
     resumes_[job_id] = from_row;
@@ -130,12 +185,9 @@ void KnitDevice::knit(const Work& work) {
   int rows_done = work.from_row - 1;
   bool knitting_started = false;
   try {
-    cv::Mat image = cv::imread((fs::path(job->output_dir) / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
-    if (image.empty()) throw std::runtime_error(job->output_dir + "/pattern.png cannot be read");
-    cv::Mat pattern = image < 128;  // black = contrast = 1
-    pattern /= 255;
-    const ayab::KnitPlan plan = ayab::plan_knitting(pattern, plan_params());
-    const int total_rows = pattern.rows;
+    const JobPlan job_plan = plan_job(*job);
+    const ayab::KnitPlan& plan = job_plan.plan;
+    const int total_rows = job_plan.rows();
     jobs_.store().set_progress(id, rows_done, total_rows);
 
     auto port = resolve_();
@@ -161,11 +213,17 @@ void KnitDevice::knit(const Work& work) {
       waiting_link_ = nullptr;
     }
     knitting_started = true;
-    const int from_pass = (work.from_row - 1) * plan.passes_per_row;
+    const auto& starts = job_plan.row_start;
+    const int from_pass = starts[static_cast<size_t>(work.from_row - 1)];
     session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
-      rows_done = p.passes_done / plan.passes_per_row;
-      jobs_.progress(id, rows_done, total_rows,
-                     "knitted row " + std::to_string(rows_done) + " of " + std::to_string(total_rows));
+      // Rows whose every pass is done.
+      rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
+                                   (starts.begin() + 1));
+      std::string what = "knitted row " + std::to_string(rows_done) + " of " + std::to_string(total_rows);
+      if (!plan.carriage.empty() && p.passes_done < static_cast<int>(plan.carriage.size()))
+        what += plan.carriage[static_cast<size_t>(p.passes_done)] == ayab::Carriage::lace ? "; next: lace carriage"
+                                                                                        : "; next: knit carriage";
+      jobs_.progress(id, rows_done, total_rows, what);
     }, cancel);
     link->close();
     if (cancel.load()) {
@@ -191,6 +249,8 @@ void KnitDevice::knit(const Work& work) {
     } else {
       jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
     }
+  } catch (const CannotKnit& e) {
+    jobs_.transition(id, JobState::failed, e.what());  // nothing was sent
   } catch (const std::exception& e) {
     // The pattern does not fit the machine, or its file is unreadable: nothing was knitted.
     jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());

@@ -1,6 +1,14 @@
-// A Brother knitting machine behind AYAB (drivers/ayab/): knits `ready` knit jobs row by row.
+// A Brother knitting machine behind AYAB (drivers/ayab/): knits `ready` knit and lace jobs
+// (the kinds in its config) row by row.
 //
-// Life of a job here: ready -> running (pattern.png planned onto the needle bed, session
+// A knit job is pattern.png (drivers/ayab/knit_plan.h); a lace job is chart.json of its output
+// folder (daemon/convert/lace_chart_json.h) planned for the lace carriage
+// (drivers/ayab/lace_plan.h). A chart the lace carriage cannot do fails before the port is
+// opened: "the lace carriage cannot knit this chart: <first problem>[; N more in report.json]".
+// Rows are what the knitter counts: pattern rows for knit, chart rows (repeats_high included)
+// for lace, whose progress also names the carriage the next pass needs.
+//
+// Life of a job here: ready -> running (planned onto the needle bed, session
 // opened, rows sent as the carriage asks) -> completed | canceled (stopped after the current
 // row with the blank last line, so the machine ends clean) | interrupted (link lost or machine
 // silent: "device disconnected after row N"; `resume --from-row` continues) | failed (the
@@ -17,6 +25,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 #include "daemon/core/device_worker.h"
 #include "daemon/core/job_service.h"
@@ -52,6 +61,15 @@ class KnitDevice : public DeviceWorker {
   // when the daemon stops (so it is never resumed without an operator).
   void end_early(int64_t id, int rows_done, bool knitting_started);
   ayab::PlanParams plan_params() const;
+  // What the job knits: its passes and where each row (counted from 0) starts.
+  struct JobPlan {
+    ayab::KnitPlan plan;
+    std::vector<int> row_start;  // first pass of each row, then passes.size()
+    int rows() const { return static_cast<int>(row_start.size()) - 1; }
+  };
+  // Throws std::runtime_error: unreadable input, a pattern that does not fit, a lace chart
+  // the lace carriage cannot do (then the message is the job's whole failure reason).
+  JobPlan plan_job(const Job& job) const;
 
   Opener open_;
   ayab::SessionTimeouts timeouts_;
