@@ -130,6 +130,12 @@ TEST(LacePreview, PlainFabricHasNoHolesAndYarnOversDo) {
       if (s.symbol != Symbol::yo) continue;
       const cv::Point p(cvRound(s.centre.x), cvRound(s.centre.y - 0.2 * l.row_px));
       EXPECT_EQ(bg.at<unsigned char>(p), 255) << p;
+      // ... ringed with yarn (left and right rims of the hole).
+      for (int side : {-1, 1}) {
+        const cv::Point rim(cvRound(s.centre.x + side * 0.36 * o.stitch_px), p.y);
+        if (rim.x < 0 || rim.x >= lace.cols) continue;
+        EXPECT_EQ(bg.at<unsigned char>(rim), 0) << rim;
+      }
     }
   }
 }
