@@ -6,6 +6,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <opencv2/imgproc.hpp>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -136,6 +137,15 @@ TEST_F(LaceChartRender, SvgIsWrittenWithTitleAndLegend) {
   EXPECT_NE(text.find("<svg"), std::string::npos);
   EXPECT_NE(text.find("</svg>"), std::string::npos);
   EXPECT_NE(text.find("<title>sampler - lace chart</title>"), std::string::npos);
+  // One stroked circle per yo of the chart, plus the legend's: cairo writes each as an
+  // unfilled path of two curves and no straight segments.
+  const std::regex stroked(R"re(<path style="fill:none;[^"]*" d="([^"]*)")re");
+  int circles = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), stroked); it != std::sregex_iterator(); ++it) {
+    const std::string d = (*it)[1].str();
+    if (count(d, "C ") == 2 && d.find('L') == std::string::npos) ++circles;
+  }
+  EXPECT_EQ(circles, 4 + 1);
   for (const char* word : {"yarn over", "knit 2 together", "right-slanting", "left-slanting",
                            "double decrease", "Multiple of 6 sts"})
     EXPECT_NE(text.find(word), std::string::npos) << word;
