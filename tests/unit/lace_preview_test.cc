@@ -112,6 +112,25 @@ TEST(LacePreview, KnitStitchesFollowTheChartFromTheRight) {
   }
 }
 
+TEST(LacePreview, RowsThatChangeWidthStayAboutAsWideAsTheCastOn) {
+  // 6 -> 8 -> 8 -> 6 stitches: the wide rows are squeezed, not spilled over the edges.
+  const Chart c{{row({"k", "yo", "k", "k", "k", "k", "yo", "k"}),
+                 row({"k", "k", "yo", "k2tog", "ssk", "yo", "k", "k"}),
+                 row({"k", "ssk", "k", "k", "k2tog", "k"})}};
+  PreviewOptions o;
+  o.repeats_x = 2;
+  const PreviewLayout l = layout_preview(c, 6, o);
+  ASSERT_EQ(l.tiles_y, 3);
+  for (const auto& course : l.courses) {
+    EXPECT_GT(course.front().centre.x, l.size.width - o.stitch_px);
+    EXPECT_LT(course.front().centre.x, l.size.width);
+    EXPECT_LT(course.back().centre.x, o.stitch_px);
+    EXPECT_GT(course.back().centre.x, 0);
+    for (std::size_t j = 1; j < course.size(); ++j)  // knitting order runs leftwards
+      EXPECT_LT(course[j].centre.x, course[j - 1].centre.x);
+  }
+}
+
 TEST(LacePreview, PlainFabricHasNoHolesAndYarnOversDo) {
   const PreviewOptions o;
   const int hole_area = o.stitch_px * o.stitch_px / 4;  // a yarn-over opens more than this
