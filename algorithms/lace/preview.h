@@ -7,7 +7,7 @@
 // bottom; each right-side row is followed by a plain wrong-side (purl) row, which shows as
 // knit stitches on the right side. Horizontal stitch positions follow the stitch structure:
 // a stitch sits at the mean x of the stitches it is worked over, a yarn-over halfway between
-// its neighbours; then positions relax halfway toward even spacing over the cast-on width
+// its neighbours; then positions relax (65%) toward even spacing over the cast-on width
 // (fabric stretches), so rows stay about as wide as the cast-on.
 //
 // Units: pixels; stitch_px is a stitch's width, a row is round(0.8 * stitch_px) high. Colours
