@@ -3,16 +3,27 @@
 // land on top; knit carriage: an empty needle casts on a new loop, a stack becomes one stitch
 // whose top is the loop that arrived last) and the knitted fabric must have exactly the
 // chart's stitches. Charts the carriage cannot do must come back as problems naming the row.
+// On the knitting-machine device: a lace job's passes reach the emulator as planned, and a
+// chart the carriage cannot do fails before the port is opened.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <fstream>
 #include <initializer_list>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
+#include "daemon/convert/lace_chart_json.h"
+#include "daemon/core/job_service.h"
+#include "daemon/core/knit_device.h"
 #include "drivers/ayab/lace_plan.h"
+#include "drivers/serial_transport.h"
+#include "tests/e2e/daemon_harness.h"
 
 namespace atelier::ayab {
 namespace {
@@ -284,6 +295,135 @@ TEST(AyabLacePlan, WiderThanTheBedNamesBothWidths) {
   const auto small = plan_lace(c, 10, 12, 1, kh270);
   EXPECT_TRUE(mentions(small.problems, "120 stitches", "112 needles"));
   EXPECT_TRUE(plan_lace(c, 10, 11, 1, kh270).plan);
+}
+
+// A ready lace job (chart.json in its output folder) and a knitting-machine device taking
+// knit and lace jobs on `port`.
+struct LaceJobOnDevice {
+  test::TempDir tmp;
+  SpoolLayout layout{tmp.path() / "spool"};
+  Store store{tmp.path() / "jobs.sqlite"};
+  JobService jobs{store, layout, nullptr};
+  int64_t id = 0;
+  std::atomic<int> opened{0};
+
+  LaceJobOnDevice(const Chart& chart, int cast_on, int wide, int high, JobState state = JobState::ready) {
+    jobs.ensure_layout();
+    Job job;
+    job.id = store.reserve_id();
+    job.kind = "lace";
+    job.name = "lace.toml";
+    job.state = state;
+    job.output_dir = (tmp.path() / "done" / std::to_string(job.id)).string();
+    std::filesystem::create_directories(job.output_dir);
+    std::ofstream(job.output_dir + "/chart.json") << lace_chart_to_json({chart, cast_on, wide, high}).dump();
+    store.insert_job(job);
+    id = job.id;
+  }
+  // Runs the device until the job has finished (at most 30 s); `resume_from` resumes an
+  // interrupted job from that chart row first.
+  Job run(const std::string& port, int resume_from = 0) {
+    DeviceConfig d;
+    d.name = "knitter";
+    d.driver = "ayab";
+    d.port = port;
+    d.machine = "kh930";
+    d.kinds = {"knit", "lace"};
+    d.autostart = true;
+    KnitDevice device(
+        d, jobs,
+        [this](const std::string& p) -> std::unique_ptr<Transport> {
+          ++opened;
+          return SerialTransport::open(p);
+        },
+        [port]() -> std::optional<std::string> { return port; });
+    if (resume_from > 0) device.resume(id, resume_from);
+    device.start_worker();
+    device.wake();
+    for (int i = 0; i < 3000; ++i) {
+      const auto job = store.get(id);
+      if (job->state == JobState::completed || job->state == JobState::failed ||
+          job->state == JobState::canceled || (i > 50 && job->state == JobState::interrupted))
+        break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    device.stop();
+    return *store.get(id);
+  }
+};
+
+// Needle strings (working range, leftmost first) of the plan's passes from `from_pass` on: what
+// the emulator records.
+std::vector<std::string> pass_lines(const KnitPlan& plan, size_t from_pass = 0) {
+  std::vector<std::string> out;
+  for (size_t p = from_pass; p < plan.passes.size(); ++p) {
+    std::string line;
+    for (int n = plan.start_needle; n <= plan.stop_needle; ++n) line.push_back(needle_selected(plan.passes[p], n) ? '1' : '0');
+    out.push_back(line);
+  }
+  return out;
+}
+
+TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens) {
+  // Two problems: the yarn-over before a k2tog (row 3), and a row that widens (row 5).
+  const Chart c{{knit(4), row({"k", "yo", "k2tog", "k"}), row({"yo", "k", "k", "k", "k"})}};
+  LaceJobOnDevice rig(c, 4, 2, 1);
+  const Job job = rig.run((rig.tmp.path() / "no-such-port").string());
+  EXPECT_EQ(job.state, JobState::failed);
+  EXPECT_EQ(job.reason.rfind("the lace carriage cannot knit this chart: row 3 (RS), stitch 3 (k2tog)", 0), 0u)
+      << job.reason;
+  EXPECT_NE(job.reason.find("; 1 more in report.json"), std::string::npos) << job.reason;
+  EXPECT_EQ(rig.opened.load(), 0);
+}
+
+TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
+  test::TempDir emu_dir;
+  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
+  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+                                    link.string(), "--record", record.string(), "--row-ms", "2", "--boot-ms", "50"},
+                                   emu_dir.path() / "emu.log");
+  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const Chart c{{row({"k", "yo", "sk2p", "yo", "k"}), knit(5), row({"yo", "k", "ssk", "k", "k"}), knit(5)}};
+  LaceJobOnDevice rig(c, 5, 4, 2);
+  const Job job = rig.run(link.string());
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  EXPECT_EQ(job.progress_done, 8);  // chart rows, repeats_high included
+  EXPECT_EQ(job.progress_total, 8);
+  EXPECT_EQ(rig.opened.load(), 1);
+
+  const auto plan = plan_lace(c, 5, 4, 2, {});
+  ASSERT_TRUE(plan.plan);
+  std::vector<std::string> got;
+  std::ifstream in(record);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) got.push_back(line);
+  EXPECT_EQ(got, pass_lines(*plan.plan));
+}
+
+TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
+  test::TempDir emu_dir;
+  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
+  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+                                    link.string(), "--record", record.string(), "--row-ms", "2", "--boot-ms", "50"},
+                                   emu_dir.path() / "emu.log");
+  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  // Rows with different numbers of lace passes, so rows and passes do not line up.
+  const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4), row({"k2tog", "yo", "k", "k"})}};
+  LaceJobOnDevice rig(c, 4, 3, 2, JobState::interrupted);
+  const Job job = rig.run(link.string(), 4);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  EXPECT_EQ(job.progress_done, 6);
+  const auto plan = plan_lace(c, 4, 3, 2, {});
+  ASSERT_TRUE(plan.plan);
+  size_t first = 0;  // the first pass of chart row 4 (0-based 3)
+  while (plan.plan->pattern_row[first] < 3) ++first;
+  std::vector<std::string> got;
+  std::ifstream in(record);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) got.push_back(line);
+  EXPECT_EQ(got, pass_lines(*plan.plan, first));
 }
 
 }  // namespace
