@@ -28,8 +28,11 @@
 //   own decrease. So plain stitches between a yarn-over and its decrease shift one needle
 //   per pass, the one nearest the decrease first.
 // - Not possible: a row that changes the width; a stacking order that cannot arrive
-//   last-on-top ("yo, k2tog": the bottom stitch would have to slide under the top one); more
-//   than max_passes_per_row passes. Each problem names the chart row and stitch.
+//   last-on-top ("yo, k2tog", also with plain stitches between: the bottom stitch would have
+//   to slide under the top one); more than max_passes_per_row passes. Each problem names the
+//   chart row and stitch. A transfer off the working range cannot arise: a stitch only
+//   travels between its own needle and its target, both inside the row (and each repeat's
+//   stitches stay inside that repeat, as every row is balanced).
 #pragma once
 
 #include <string>

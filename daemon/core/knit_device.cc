@@ -219,7 +219,8 @@ void KnitDevice::knit(const Work& work) {
       // Rows whose every pass is done.
       rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
                                    (starts.begin() + 1));
-      std::string what = "knitted row " + std::to_string(rows_done) + " of " + std::to_string(total_rows);
+      std::string what = std::string(job->kind == "lace" ? "knitted chart row " : "knitted row ") +
+                         std::to_string(rows_done) + " of " + std::to_string(total_rows);
       if (!plan.carriage.empty() && p.passes_done < static_cast<int>(plan.carriage.size()))
         what += plan.carriage[static_cast<size_t>(p.passes_done)] == ayab::Carriage::lace ? "; next: lace carriage"
                                                                                         : "; next: knit carriage";

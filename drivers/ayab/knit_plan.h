@@ -52,7 +52,7 @@ struct KnitPlan {
   int passes_per_row = 1;              // 0: varies per row (lace); pattern_row says which
   // Lace plans (lace_plan.h) only; empty for plan_knitting(), where every pass is the knit
   // carriage's. Per pass: the carriage the operator must use, and what the pass does
-  // ("row 3 (RS): lace carriage, left to right, transfers").
+  // ("chart row 2 (RS row 3): lace carriage left to right, transfers").
   std::vector<Carriage> carriage;
   std::vector<std::string> note;
 };

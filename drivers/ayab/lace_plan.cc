@@ -66,7 +66,9 @@ LacePlanResult plan_lace(const lace::Chart& chart, int cast_on, int repeats_wide
   };
   const int chart_rows = static_cast<int>(chart.rows.size());
   for (int i = 0; i < chart_rows * repeats_high; ++i) {
-    const std::string rs = lace::rs_row_name(i);
+    // Chart rows as resume --from-row counts them (repeats included), with the knitted rows.
+    const std::string chart_row = "chart row " + std::to_string(i + 1);
+    const std::string rs = chart_row + " (RS row " + std::to_string(2 * i + 1) + ")";
     for (const lace::LacePass& pass : rows[static_cast<size_t>(i % chart_rows)].passes) {
       Bytes data(bytes, 0);
       for (int j : pass.needles) select_needle(data, start + j, true);
@@ -78,7 +80,7 @@ LacePlanResult plan_lace(const lace::Chart& chart, int cast_on, int repeats_wide
     }
     add(i, Carriage::knit, Bytes(bytes, 0), rs + ": knit carriage, the right-side row");
     add(i, Carriage::knit, Bytes(bytes, 0),
-        "row " + std::to_string(2 * i + 2) + " (WS): knit carriage, the plain wrong-side row");
+        chart_row + " (WS row " + std::to_string(2 * i + 2) + "): knit carriage, the plain wrong-side row");
     out.knit_passes += 2;
   }
   out.plan = std::move(plan);
