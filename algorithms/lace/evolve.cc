@@ -178,6 +178,17 @@ class Run {
                                   : random_forest(width_, rows_, rng_);
       pop_[i].evaluated = false;
     }
+    add_plain_chart_for_extra_constraints();
+  }
+
+  // Extra constraints (e.g. the lace carriage's) may reject every random chart; a plain chart
+  // (all k: no transfers, nothing to balance) satisfies any of them, so one is always there.
+  void add_plain_chart_for_extra_constraints() {
+    if (!p_.extra_violations || pop_.size() < 2) return;
+    Chart plain;
+    plain.rows.assign(rows_, Row(width_, Symbol::k));
+    pop_.back().forest = encode(plain, width_);
+    pop_.back().evaluated = false;
   }
 
   // The start chart, then mutants of it (1 to 3 mutations each); with an infeasible start, every
@@ -196,6 +207,7 @@ class Run {
       const int n = std::uniform_int_distribution<int>(1, 3)(rng_);
       for (int m = 0; m < n; ++m) mutate(pop_[i].forest, rng_);
     }
+    add_plain_chart_for_extra_constraints();
   }
 
   void evaluate_all(std::size_t from) {

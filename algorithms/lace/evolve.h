@@ -50,7 +50,9 @@ struct EvolveParams {
   int threads = 2;  // 1..64
   // Extra constraint violations counted like the others (0 = fine), e.g. rows the knitting
   // machine's lace carriage cannot do. Called from the evaluation threads concurrently, so it
-  // must be thread-safe. May be empty.
+  // must be thread-safe. May be empty. When set, generation 0 (and 1, from a start chart)
+  // also holds the plain chart (all k), which needs no transfers, so that a feasible chart
+  // exists whenever the extra constraints accept plain knitting.
   std::function<int(const Chart&, int cast_on)> extra_violations;
   // Called on the calling thread after each generation (1..generations). May be empty.
   std::function<void(int generation, int generations)> progress;

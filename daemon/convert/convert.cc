@@ -75,7 +75,7 @@ ConvertResult convert(const ConvertRequest& request) {
     if (request.kind == "cut") return convert_cut(request);
     if (request.kind == "parquetry") return convert_parquetry(request);
     if (request.kind == "embroidery") return convert_embroidery(request);
-    if (request.kind == "lace") throw ConvertError("lace: not built yet");  // TEMP until helpers land
+    if (request.kind == "lace") return convert_lace(request);
     return convert_knit(request);
   } catch (const cv::Exception& e) {
     throw ConvertError(request.input.filename().string() + ": image processing failed: " +

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "daemon/convert/convert.h"
 #include "daemon/core/log.h"
 
 namespace fs = std::filesystem;
@@ -14,8 +15,17 @@ namespace fs = std::filesystem;
 namespace atelier {
 namespace {
 
-bool is_candidate_name(const std::string& name) {
-  return !is_temporary_name(name) && !companion_of(name);
+// A job file (NAME.toml directly in incoming/, or in the folder of a kind that converts job
+// files) is a job even with dots in its name: it is nobody's sidecar.
+bool is_job_file(const SpoolLayout& layout, const fs::path& path) {
+  if (path.extension() != ".toml") return false;
+  const fs::path parent = path.parent_path();
+  return parent == layout.incoming() || converts_job_file(parent.filename().string());
+}
+
+bool is_candidate(const SpoolLayout& layout, const fs::path& path) {
+  const std::string name = path.filename().string();
+  return !is_temporary_name(name) && (!companion_of(name) || is_job_file(layout, path));
 }
 
 constexpr uint32_t kDirMask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_DELETE_SELF;
@@ -54,12 +64,11 @@ std::vector<fs::path> HotFolder::scan() const {
   std::vector<fs::path> out;
   std::error_code ec;
   for (const auto& top : fs::directory_iterator(layout_.incoming(), ec)) {
-    std::string name = top.path().filename().string();
-    if (!is_candidate_name(name)) continue;
+    if (!is_candidate(layout_, top.path())) continue;
     if (top.is_directory() && !top.is_symlink()) {
       std::error_code ec2;
       for (const auto& entry : fs::directory_iterator(top.path(), ec2))
-        if (is_candidate_name(entry.path().filename().string())) out.push_back(entry.path());
+        if (is_candidate(layout_, entry.path())) out.push_back(entry.path());
     } else {
       out.push_back(top.path());
     }
@@ -102,10 +111,10 @@ std::vector<fs::path> HotFolder::collect_inotify() {
         add_watch(path);
         std::error_code ec;
         for (const auto& entry : fs::directory_iterator(path, ec))
-          if (is_candidate_name(entry.path().filename().string())) out.push_back(entry.path());
+          if (is_candidate(layout_, entry.path())) out.push_back(entry.path());
         continue;
       }
-      if (!is_candidate_name(name)) continue;
+      if (!is_candidate(layout_, path)) continue;
       if (ev->mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) {
         out.push_back(path);
       } else if (ev->mask & IN_CREATE) {

@@ -120,7 +120,15 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   const int total = static_cast<int>(plan.passes.size());
   if (from_pass < 0 || from_pass > total)
     throw std::invalid_argument("knit: from_pass " + std::to_string(from_pass) + " outside 0.." + std::to_string(total));
-  const int per_row = std::max(1, plan.passes_per_row);
+  // Rows fully knitted after `passes` passes: a fixed number of passes per row, or (lace,
+  // passes_per_row = 0) every row before the next pass's row.
+  auto rows_done = [&plan, total](int passes) {
+    if (plan.passes_per_row > 0) return passes / plan.passes_per_row;
+    if (passes <= 0) return 0;
+    if (passes >= total || passes >= static_cast<int>(plan.pattern_row.size()))
+      return plan.pattern_row.empty() ? 0 : plan.pattern_row.back() + 1;
+    return plan.pattern_row[passes];
+  };
   line_bytes_ = line_bytes(plan.machine);
 
   const ReqStart start{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false, true};
@@ -176,7 +184,7 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     if (!m) {
       if (now >= silent_at) {
         if (probe_until)
-          throw AyabError("the knitting machine went silent after row " + std::to_string(done / per_row));
+          throw AyabError("the knitting machine went silent after row " + std::to_string(rows_done(done)));
         send(ReqInfo{});
         probe_until = now + timeouts_.reply;
         continue;

@@ -1,0 +1,163 @@
+// End to end: a lace job file dropped into the hot folder becomes a chart, instructions,
+// knitout and a preview; a bad job file fails with the key it got wrong; with a knitting
+// machine that takes lace (the AYAB emulator on a pseudo-terminal), the chart is knitted with
+// the lace carriage pass by pass exactly as planned, and a chart the lace carriage cannot do
+// fails with the reason before anything is sent.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "daemon/convert/lace_chart_json.h"
+#include "drivers/ayab/lace_plan.h"
+#include "tests/e2e/daemon_harness.h"
+
+namespace fs = std::filesystem;
+using atelier::test::BackgroundProcess;
+using atelier::test::DaemonProcess;
+using atelier::test::TempDir;
+using nlohmann::json;
+
+namespace {
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+json job_named(DaemonProcess& d, const std::string& name) {
+  for (const auto& j : d.jobs())
+    if (j["name"] == name) return j;
+  return nullptr;
+}
+
+bool wait_state(DaemonProcess& d, const std::string& name, const std::string& state) {
+  return d.wait_for([&] {
+    const json j = job_named(d, name);
+    return !j.is_null() && j["state"] == state;
+  }, std::chrono::seconds(90));
+}
+
+const std::string kSmall = "population = 80\ngenerations = 20\nwidth = 10\nrows = 6\n";
+
+}  // namespace
+
+TEST(E2ELace, AJobFileInTheHotFolderBecomesAChartAndABadOneNamesItsKey) {
+  TempDir tmp;
+  DaemonProcess daemon(tmp.path());
+  daemon.start();
+  const fs::path incoming = daemon.spool() / "incoming";
+  atelier::test::write_file(tmp.path() / "swatch.toml", "kind = \"lace\"\n" + kSmall + "seed = 4\n");
+  atelier::test::drop_file(tmp.path() / "swatch.toml", incoming / "swatch.toml");
+  // The same in incoming/lace/, where the folder names the kind (dots in a job file's name are fine).
+  atelier::test::write_file(tmp.path() / "scarf.v2.toml", kSmall + "holes = 3\n");
+  atelier::test::drop_file(tmp.path() / "scarf.v2.toml", daemon.incoming("lace") / "scarf.v2.toml");
+  atelier::test::write_file(tmp.path() / "typo.toml", "kind = \"lace\"\nwidht = 10\n");
+  atelier::test::drop_file(tmp.path() / "typo.toml", incoming / "typo.toml");
+
+  for (const char* name : {"swatch.toml", "scarf.v2.toml"}) {
+    ASSERT_TRUE(wait_state(daemon, name, "completed")) << daemon.jobs().dump(2) << daemon.log();
+    const json job = job_named(daemon, name);
+    EXPECT_EQ(job["kind"], "lace");
+    const fs::path done = daemon.spool() / "done" / std::to_string(job["id"].get<int64_t>());
+    for (const char* f : {"chart.json", "chart.svg", "chart.pdf", "instructions.txt", "lace.k",
+                          "preview.png", "report.json", name})
+      EXPECT_TRUE(fs::exists(done / f)) << name << ": " << f;
+    const atelier::LaceChartFile chart =
+        atelier::lace_chart_from_json(json::parse(slurp(done / "chart.json")), "chart.json");
+    EXPECT_EQ(chart.cast_on, 10);
+    EXPECT_TRUE(atelier::lace::yarn_over_balance(chart.chart));
+    EXPECT_TRUE(json::parse(slurp(done / "report.json"))["constraints"]["all_satisfied"].get<bool>());
+  }
+  ASSERT_TRUE(wait_state(daemon, "typo.toml", "failed")) << daemon.jobs().dump(2);
+  EXPECT_NE(job_named(daemon, "typo.toml")["reason"].get<std::string>().find("widht"), std::string::npos)
+      << job_named(daemon, "typo.toml").dump();
+}
+
+namespace {
+
+struct KnitterRig {
+  TempDir tmp;
+  fs::path link = tmp.path() / "knitter";
+  fs::path record = tmp.path() / "record.txt";
+  std::unique_ptr<BackgroundProcess> emulator;
+  std::unique_ptr<DaemonProcess> daemon;
+
+  explicit KnitterRig(const std::string& lace_toml) {
+    emulator = std::make_unique<BackgroundProcess>(
+        std::vector<std::string>{atelier::test::binary("atelier-knit-emu").string(), "--machine", "kh930",
+                                 "--link", link.string(), "--record", record.string(), "--row-ms", "3",
+                                 "--boot-ms", "50"},
+        tmp.path() / "emu.log");
+    for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    daemon = std::make_unique<DaemonProcess>(
+        tmp.path(), "[lace]\n" + lace_toml + "[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\nport = \"" +
+                        link.string() + "\"\nmachine = \"kh930\"\nkinds = [\"knit\", \"lace\"]\n");
+    daemon->start();
+  }
+  std::vector<std::string> recorded() const {
+    std::vector<std::string> rows;
+    std::ifstream in(record);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) rows.push_back(line);
+    return rows;
+  }
+  void drop_job(const std::string& name, const std::string& toml) {
+    atelier::test::write_file(tmp.path() / name, "kind = \"lace\"\n" + toml);
+    atelier::test::drop_file(tmp.path() / name, daemon->spool() / "incoming" / name);
+  }
+};
+
+}  // namespace
+
+TEST(E2ELace, TheKnittingMachineKnitsTheChartWithTheLaceCarriagePassByPass) {
+  KnitterRig rig("lace_carriage = true\nrepeats_wide = 2\nrepeats_high = 1\n");
+  rig.drop_job("eyelets.toml", kSmall + "seed = 3\n");
+  ASSERT_TRUE(wait_state(*rig.daemon, "eyelets.toml", "completed")) << rig.daemon->jobs().dump(2) << rig.daemon->log();
+  const json job = job_named(*rig.daemon, "eyelets.toml");
+  EXPECT_EQ(job["device"], "knitter");
+  const fs::path done = job["output_dir"].get<std::string>();
+  const atelier::LaceChartFile chart =
+      atelier::lace_chart_from_json(json::parse(slurp(done / "chart.json")), "chart.json");
+
+  // What the needles did is what the lace plan says, pass by pass: lace-carriage transfers,
+  // then two plain rows with the knit carriage, for every chart row.
+  atelier::ayab::PlanParams params;
+  const atelier::ayab::LacePlanResult plan =
+      atelier::ayab::plan_lace(chart.chart, chart.cast_on, chart.repeats_wide, chart.repeats_high, params);
+  ASSERT_TRUE(plan.problems.empty()) << plan.problems.front();
+  const std::vector<std::string> rows = rig.recorded();
+  ASSERT_EQ(rows.size(), plan.plan->passes.size());
+  const json report = json::parse(slurp(done / "report.json"));
+  EXPECT_EQ(static_cast<int>(rows.size()),
+            report["machine"]["lace_passes"].get<int>() + report["machine"]["knit_passes"].get<int>());
+  EXPECT_EQ(report["machine"]["knit_passes"].get<int>(), 2 * static_cast<int>(chart.chart.rows.size()));
+  const int width = chart.cast_on * chart.repeats_wide;
+  int selected = 0;
+  for (size_t p = 0; p < rows.size(); ++p) {
+    ASSERT_EQ(static_cast<int>(rows[p].size()), plan.plan->stop_needle - plan.plan->start_needle + 1);
+    for (int n = 0; n < static_cast<int>(rows[p].size()); ++n) {
+      const int needle = plan.plan->start_needle + n;
+      const bool on = (plan.plan->passes[p][needle >> 3] >> (needle & 7)) & 1;
+      EXPECT_EQ(rows[p][n], on ? '1' : '0') << "pass " << p << " needle " << needle;
+      selected += on;
+    }
+  }
+  EXPECT_EQ(plan.plan->stop_needle - plan.plan->start_needle + 1, width);
+  EXPECT_GT(selected, 0) << "the chart has yarn-overs, so the lace carriage transfers";
+}
+
+TEST(E2ELace, AChartTheLaceCarriageCannotDoFailsWithTheReasonAndNothingIsSent) {
+  KnitterRig rig("repeats_wide = 1\nrepeats_high = 1\n");
+  // "yo, k2tog": the bottom stitch would have to slide under the top one; and row 3 widens.
+  rig.drop_job("hand.toml", "generations = 0\npopulation = 4\nstart_chart = [\"k1, yo, k2tog, k1\", \"k1, yo, k3\", \"k2, k2tog, k1\"]\n");
+  ASSERT_TRUE(wait_state(*rig.daemon, "hand.toml", "failed")) << rig.daemon->jobs().dump(2) << rig.daemon->log();
+  const std::string reason = job_named(*rig.daemon, "hand.toml")["reason"];
+  EXPECT_NE(reason.find("lace carriage"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("row 1"), std::string::npos) << reason;
+  EXPECT_TRUE(rig.recorded().empty());
+  const fs::path done = job_named(*rig.daemon, "hand.toml")["output_dir"].get<std::string>();
+  const json report = json::parse(slurp(done / "report.json"));
+  EXPECT_FALSE(report["machine"]["lace_carriage"].get<bool>());
+  EXPECT_GE(report["machine"]["problems"].size(), 2u) << report["machine"].dump(2);
+}

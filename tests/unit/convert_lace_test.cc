@@ -1,0 +1,170 @@
+// convert() for kind lace: a job's parameters become chart.json, chart.svg, chart.pdf,
+// instructions.txt, lace.k, preview.png and report.json; variations of a start chart; bad
+// parameters and start charts are clear errors.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "algorithms/lace/instructions.h"
+#include "daemon/convert/convert.h"
+#include "daemon/convert/lace_chart_json.h"
+#include "daemon/convert/param_table.h"
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Small and quick: the algorithm's own tests cover the evolution at full size.
+const std::string kQuick = "population = 60\ngenerations = 15\nwidth = 8\nrows = 6\n";
+
+class ConvertLaceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("atelier-convert-lace-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  ConvertResult run(const std::string& toml_text, const std::string& out = "out") {
+    std::ofstream(dir_ / "swatch.toml") << toml_text;  // relative paths follow the job file
+    ConvertRequest req;
+    req.kind = "lace";
+    req.input = dir_ / "swatch.toml";
+    req.params = toml::parse(toml_text, std::string_view{(dir_ / "swatch.toml").string()});
+    req.params_source = (dir_ / "swatch.toml").string();
+    req.output_dir = dir_ / out;
+    return convert(req);
+  }
+  std::string error_of(const std::string& toml_text) {
+    try {
+      run(toml_text);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  }
+  LaceChartFile chart_of(const std::string& out = "out") {
+    return lace_chart_from_json(nlohmann::json::parse(slurp(dir_ / out / "chart.json")), "chart.json");
+  }
+  fs::path dir_;
+};
+
+TEST_F(ConvertLaceTest, AJobWritesEveryOutputAndItsChartKeepsThePapersConstraints) {
+  const ConvertResult result = run(kQuick + "seed = 5\n");
+  for (const char* f : {"chart.json", "chart.svg", "chart.pdf", "instructions.txt", "lace.k",
+                        "preview.png", "report.json"})
+    EXPECT_TRUE(fs::exists(dir_ / "out" / f)) << f;
+
+  const LaceChartFile file = chart_of();
+  EXPECT_EQ(file.cast_on, 8);
+  EXPECT_EQ(file.chart.rows.size(), 6u);
+  EXPECT_EQ(file.repeats_wide, 3);
+  EXPECT_TRUE(lace::knittable(file.chart, 8));
+  EXPECT_TRUE(lace::yarn_over_balance(file.chart));
+  EXPECT_TRUE(lace::adjacent_yarn_overs_ok(file.chart, true));
+  EXPECT_TRUE(lace::width_ok(file.chart, 2));
+
+  // The written instructions are the same chart.
+  const lace::ParsedInstructions parsed = lace::parse_instructions(slurp(dir_ / "out" / "instructions.txt"));
+  EXPECT_EQ(parsed.chart, file.chart);
+  EXPECT_EQ(parsed.cast_on, 8);
+  EXPECT_THAT(slurp(dir_ / "out" / "instructions.txt"), HasSubstr("Row 1 (RS):"));
+
+  EXPECT_EQ(slurp(dir_ / "out" / "chart.pdf").substr(0, 4), "%PDF");
+  EXPECT_THAT(slurp(dir_ / "out" / "chart.svg"), HasSubstr("<svg"));
+  EXPECT_EQ(slurp(dir_ / "out" / "lace.k").rfind(";!knitout-2", 0), 0u);
+  const cv::Mat preview = cv::imread((dir_ / "out" / "preview.png").string());
+  ASSERT_FALSE(preview.empty());
+  EXPECT_GT(preview.cols, 3 * 8 * 4) << "three repeats of eight stitches";
+
+  const nlohmann::json& r = result.report;
+  EXPECT_EQ(r, nlohmann::json::parse(slurp(dir_ / "out" / "report.json")));
+  EXPECT_TRUE(r["constraints"]["all_satisfied"].get<bool>());
+  EXPECT_TRUE(r["constraints"]["knittable"].get<bool>());
+  EXPECT_EQ(r["generations"], 15);
+  EXPECT_EQ(r["best_score"].size(), 16u) << "generation 0 and each of the 15";
+  EXPECT_EQ(r["stitches"]["yo"].get<int>(),
+            r["stitches"]["k2tog"].get<int>() + r["stitches"]["ssk"].get<int>() + 2 * r["stitches"]["sk2p"].get<int>());
+  for (const char* term : {"holes", "knit_length", "depth", "symmetry", "score"})
+    EXPECT_TRUE(r["fitness"].contains(term)) << term;
+  EXPECT_TRUE(r["machine"].contains("problems"));
+}
+
+TEST_F(ConvertLaceTest, TheSameParametersGiveTheSameChartAndAnotherSeedAnother) {
+  run(kQuick + "seed = 7\n", "a");
+  run(kQuick + "seed = 7\n", "b");
+  EXPECT_EQ(slurp(dir_ / "a" / "chart.json"), slurp(dir_ / "b" / "chart.json"));
+  bool differs = false;
+  for (int seed = 8; seed < 12 && !differs; ++seed) {
+    run(kQuick + "seed = " + std::to_string(seed) + "\n", "c");
+    differs = slurp(dir_ / "c" / "chart.json") != slurp(dir_ / "a" / "chart.json");
+  }
+  EXPECT_TRUE(differs);
+}
+
+TEST_F(ConvertLaceTest, AStartChartWithNoGenerationsComesBackAsItWas) {
+  // Inline rows, written as a knitter writes them: a cat's-paw-like eyelet motif, 7 stitches.
+  run("generations = 0\npopulation = 10\nstart_chart = [\"k1, k2tog, yo, k1, yo, ssk, k1\", "
+      "\"k7\", \"k2tog, yo, k3, yo, ssk\", \"k7\"]\n");
+  const LaceChartFile inline_chart = chart_of();
+  EXPECT_EQ(inline_chart.cast_on, 7);
+  ASSERT_EQ(inline_chart.chart.rows.size(), 4u);
+  EXPECT_EQ(inline_chart.chart.rows[2].front(), lace::Symbol::k2tog);
+
+  // The same chart from the job's own instructions.txt and chart.json, relative to the job file.
+  fs::rename(dir_ / "out", dir_ / "first");
+  run("generations = 0\npopulation = 10\nstart_chart = \"first/instructions.txt\"\n");
+  EXPECT_EQ(chart_of().chart, inline_chart.chart);
+  fs::remove_all(dir_ / "out");
+  run("generations = 0\npopulation = 10\nstart_chart = \"first/chart.json\"\n");
+  EXPECT_EQ(chart_of().chart, inline_chart.chart);
+
+  // With generations, variations keep the start chart's width and rows.
+  fs::remove_all(dir_ / "out");
+  run("generations = 10\npopulation = 40\nstart_chart = \"first/chart.json\"\n");
+  const LaceChartFile varied = chart_of();
+  EXPECT_EQ(varied.cast_on, 7);
+  EXPECT_EQ(varied.chart.rows.size(), 4u);
+  EXPECT_TRUE(lace::yarn_over_balance(varied.chart));
+}
+
+TEST_F(ConvertLaceTest, BadParametersAndStartChartsAreClearErrors) {
+  EXPECT_THAT(error_of("widht = 10\n"), HasSubstr("widht"));
+  EXPECT_THAT(error_of("width = 1\n"), HasSubstr("width"));
+  EXPECT_THAT(error_of("kind = \"knit\"\n"), HasSubstr("kind"));
+  EXPECT_THAT(error_of("start_chart = \"nowhere.json\"\n"), HasSubstr("nowhere.json"));
+  EXPECT_THAT(error_of("start_chart = [\"k2, k3tog, yo\"]\n"), HasSubstr("k3tog"));
+  // A start chart that cannot be knitted: row 2 is worked over 3 stitches, row 1 made 2.
+  EXPECT_THAT(error_of("start_chart = [\"k2\", \"k3\"]\n"), HasSubstr("row"));
+  std::ofstream(dir_ / "bad.json") << "{\"rows\": [[\"k\", \"zz\"]]}";
+  EXPECT_THAT(error_of("start_chart = \"bad.json\"\n"), HasSubstr("bad.json"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "chart.json"));
+}
+
+TEST_F(ConvertLaceTest, WithTheLaceCarriageOnEveryChartIsOneTheCarriageCanKnit) {
+  for (int seed : {1, 2, 3}) {
+    const ConvertResult result = run(kQuick + "lace_carriage = true\nseed = " + std::to_string(seed) + "\n");
+    const nlohmann::json& m = result.report["machine"];
+    EXPECT_TRUE(m["lace_carriage"].get<bool>()) << m.dump();
+    EXPECT_TRUE(m["problems"].empty()) << m.dump();
+    EXPECT_GT(m["knit_passes"].get<int>(), 0);
+    for (const lace::Row& row : chart_of().chart.rows) EXPECT_EQ(lace::produced(row), 8);
+  }
+}
+
+}  // namespace
+}  // namespace atelier
