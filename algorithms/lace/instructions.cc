@@ -65,6 +65,21 @@ int to_int(const std::string& digits, int line) {
   }
 }
 
+// The start of a line for a message: at most 60 characters, control bytes (a binary file's)
+// shown as '?', so the message stays one readable line.
+std::string excerpt(const std::string& line) {
+  std::string out = line.substr(0, 60);
+  for (char& c : out)
+    if (std::iscntrl(static_cast<unsigned char>(c))) c = '?';
+  return line.size() > 60 ? out + "..." : out;
+}
+
+// Refuses a row that would make more than kMaxRowStitches: `have` so far, `more` to add.
+void check_row_size(std::size_t have, std::size_t more, int line) {
+  if (more > kMaxRowStitches - std::min(have, kMaxRowStitches))
+    fail(line, "the row makes more than " + std::to_string(kMaxRowStitches) + " stitches");
+}
+
 // One item ("k3", "yo", ...) appended to `out`.
 void parse_item(const std::string& raw, int line, Row& out) {
   const std::string item = lower(trim(raw));
@@ -74,6 +89,7 @@ void parse_item(const std::string& raw, int line, Row& out) {
   if (std::regex_match(item, m, run)) {
     const int n = to_int(m[1].str(), line);
     if (n < 1) fail(line, "'" + trim(raw) + "' knits no stitches");
+    check_row_size(out.size(), static_cast<std::size_t>(n), line);
     out.insert(out.end(), static_cast<std::size_t>(n), Symbol::k);
     return;
   }
@@ -114,6 +130,7 @@ Row parse_items(const std::string& text, int line) {
         fail(line, "a bracketed group must be followed by 'N times'");
       const int n = to_int(m[1].str(), line);
       if (n < 1) fail(line, "a group repeated " + m[1].str() + " times");
+      check_row_size(row.size(), group.size() * static_cast<std::size_t>(n), line);
       for (int t = 0; t < n; ++t) row.insert(row.end(), group.begin(), group.end());
       pos = close + 1 + static_cast<std::size_t>(m.length(0));
       if (pos < text.size()) {
@@ -222,12 +239,15 @@ ParsedInstructions parse_instructions(std::string_view text) {
   int multiple = 0, cast_on = 0, multiple_line = 0, cast_on_line = 0;
   bool in_abbreviations = false;
   int line_no = 0;
-  std::size_t pos = 0;
+  std::size_t pos = 0, stitches = 0;
   while (pos <= text.size()) {
     const std::size_t nl = text.find('\n', pos);
-    const std::string line = trim(text.substr(pos, nl == std::string_view::npos ? text.npos : nl - pos));
+    const std::string_view raw = text.substr(pos, nl == std::string_view::npos ? text.npos : nl - pos);
     pos = nl == std::string_view::npos ? text.size() + 1 : nl + 1;
     ++line_no;
+    if (raw.size() > kMaxLineChars)
+      fail(line_no, "the line is longer than " + std::to_string(kMaxLineChars) + " characters");
+    const std::string line = trim(raw);
     if (line.empty()) {
       in_abbreviations = false;
       continue;
@@ -257,6 +277,9 @@ ParsedInstructions parse_instructions(std::string_view text) {
         fail(line_no, "row " + m[1].str() + " makes " + std::to_string(produced(row)) +
                           " stitches but the line says (" + std::to_string(count) + " sts)");
       }
+      stitches += row.size();
+      if (stitches > kMaxChartStitches)
+        fail(line_no, "the chart makes more than " + std::to_string(kMaxChartStitches) + " stitches");
       out.chart.rows.push_back(std::move(row));
       row_lines.push_back(line_no);
     } else if (low.starts_with("row 2 and all ws rows") || low.starts_with("lace pattern") ||
@@ -271,7 +294,7 @@ ParsedInstructions parse_instructions(std::string_view text) {
       cast_on = to_int(m[2].str(), line_no);
       cast_on_line = line_no;
     } else {
-      fail(line_no, "cannot read '" + line + "' (expected a line such as 'Row 1 (RS): k2, yo, k2tog. (4 sts)')");
+      fail(line_no, "cannot read '" + excerpt(line) + "' (expected a line such as 'Row 1 (RS): k2, yo, k2tog. (4 sts)')");
     }
   }
   if (out.chart.rows.empty()) fail(line_no, "the text has no 'Row 1 (RS): ...' line");

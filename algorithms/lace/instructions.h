@@ -22,6 +22,7 @@
 // Widths in stitches. Pure functions, thread-safe.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -51,7 +52,13 @@ struct ParsedInstructions {
 // case-insensitively; rows must be consecutive odd numbers from 1. A "(W sts)" count, when
 // present, must equal the stitches the row makes. cast_on comes from "Cast on a multiple of N",
 // else "Multiple of N", else what row 1 is worked over; the chart must be knittable from it.
-// Throws std::invalid_argument "line N: <problem>" (1-based line of the text).
+// Throws std::invalid_argument "line N: <problem>" (1-based line of the text). Text from
+// outside is bounded before anything is built from it: a line longer than kMaxLineChars
+// (std::regex recurses per character), a row making more than kMaxRowStitches or a chart of
+// more than kMaxChartStitches stitches ("k99999999" would ask for gigabytes) is refused.
+inline constexpr std::size_t kMaxLineChars = 20000;
+inline constexpr std::size_t kMaxRowStitches = 10000;
+inline constexpr std::size_t kMaxChartStitches = 1000000;
 ParsedInstructions parse_instructions(std::string_view text);
 
 }  // namespace atelier::lace

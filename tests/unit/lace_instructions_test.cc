@@ -236,3 +236,37 @@ TEST(LaceInstructions, WriterRefusesAChartThatCannotBeKnitted) {
 
 }  // namespace
 }  // namespace atelier::lace
+
+namespace atelier::lace {
+namespace {
+
+// A start chart comes from a user's file or job: odd text must be a "line N" error, never a
+// crash (std::regex overflowed the stack on a 60000-item line) or gigabytes of stitches.
+TEST(LaceInstructions, OversizedTextIsRefusedNotBuilt) {
+  std::string items;
+  for (int i = 0; i < 60000; ++i) items += i ? ", k1" : "k1";
+  EXPECT_EQ(error_of("Row 1 (RS): " + items + ".\n"),
+            "line 1: the line is longer than " + std::to_string(kMaxLineChars) + " characters");
+  EXPECT_EQ(error_of("Row 1 (RS): k4.\nRow 3 (RS): k1" + std::string(30000, ' ') + ", k3.\n"),
+            "line 2: the line is longer than " + std::to_string(kMaxLineChars) + " characters");
+  EXPECT_EQ(error_of("Row 1 (RS): k536870911.\n"),
+            "line 1: the row makes more than " + std::to_string(kMaxRowStitches) + " stitches");
+  EXPECT_EQ(error_of("Row 1 (RS): k2, [yo, yo, k2tog] 536870911 times.\n"),
+            "line 1: the row makes more than " + std::to_string(kMaxRowStitches) + " stitches");
+  std::string big;
+  for (int r = 0; r < 101; ++r) big += "Row " + std::to_string(2 * r + 1) + " (RS): k10000.\n";
+  EXPECT_EQ(error_of(big), "line 101: the chart makes more than " +
+                               std::to_string(kMaxChartStitches) + " stitches");
+  // The widest rows a chart may have still read, and so does the longest line.
+  EXPECT_EQ(parse_instructions("Row 1 (RS): k10000.\n").chart.rows[0].size(), kMaxRowStitches);
+  std::string longest = "Row 1 (RS): k1";
+  while (longest.size() + 5 <= kMaxLineChars) longest += ", k1";
+  EXPECT_EQ(parse_instructions(longest + ".\n").chart.rows[0].size(), (longest.size() - 10) / 4);
+  // A binary file's first line is shown short and without control bytes.
+  const std::string e = error_of(std::string("\x7f") + "ELF\x02\x01\x01" + std::string(200, 'x') + "\n");
+  EXPECT_EQ(e.rfind("line 1: cannot read '?ELF???xxx", 0), 0u) << e;
+  EXPECT_LT(e.size(), 160u);
+}
+
+}  // namespace
+}  // namespace atelier::lace
