@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -28,17 +30,35 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// A start chart file is a chart.json or an instructions.txt: a few kilobytes. Anything far
+// larger is not one (and would only be read into memory to be refused).
+constexpr std::uintmax_t kMaxStartChartBytes = 4 << 20;
+
+// Throws std::invalid_argument (the caller adds the file and key).
 std::string read_text(const fs::path& file) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st)) throw std::invalid_argument("no such file");
+  if (fs::is_directory(st)) throw std::invalid_argument("a folder, not a chart file (chart.json or instructions.txt)");
+  if (!fs::is_regular_file(st)) throw std::invalid_argument("not a regular file");
+  if (fs::file_size(file, ec) > kMaxStartChartBytes)
+    throw std::invalid_argument("larger than " + std::to_string(kMaxStartChartBytes >> 20) +
+                                " MB: not a chart.json or instructions.txt");
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw ParamError(file.string() + ": start_chart: cannot open the file");
+  if (!in) throw std::invalid_argument("cannot open the file");
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
 }
 
-// The start chart named by the parameters: a chart.json, an instructions.txt, or inline rows.
+// The start chart named by the parameters: a chart.json, an instructions.txt, or inline rows,
+// within what evolve() takes (EvolveParams::start). Every problem is a ParamError
+// "FILE:LINE: key 'start_chart': <chart file or 'inline rows'>: <problem>".
 std::optional<LaceChartFile> load_start_chart(const LaceParams& p) {
+  if (!p.start_chart_file && p.start_rows.empty()) return std::nullopt;
+  const std::string where = p.start_chart_file ? p.start_chart_file->string() : std::string("inline rows");
   try {
+    LaceChartFile chart;
     if (p.start_chart_file) {
       const fs::path& file = *p.start_chart_file;
       const std::string text = read_text(file);
@@ -49,12 +69,12 @@ std::optional<LaceChartFile> load_start_chart(const LaceParams& p) {
         } catch (const nlohmann::json::exception& e) {
           throw std::invalid_argument(std::string("not JSON: ") + e.what());
         }
-        return lace_chart_from_json(j, file.string());
+        chart = lace_chart_from_json(j, "");
+      } else {
+        const lace::ParsedInstructions parsed = lace::parse_instructions(text);
+        chart = LaceChartFile{parsed.chart, parsed.cast_on};
       }
-      const lace::ParsedInstructions parsed = lace::parse_instructions(text);
-      return LaceChartFile{parsed.chart, parsed.cast_on};
-    }
-    if (!p.start_rows.empty()) {
+    } else {
       std::string text;
       for (size_t r = 0; r < p.start_rows.size(); ++r) {
         std::string row = p.start_rows[r];
@@ -63,17 +83,102 @@ std::optional<LaceChartFile> load_start_chart(const LaceParams& p) {
         text += "Row " + std::to_string(2 * r + 1) + " (RS): " + row + "\n";
       }
       const lace::ParsedInstructions parsed = lace::parse_instructions(text);
-      const lace::Knittability k = lace::knittable(parsed.chart, parsed.cast_on);
-      if (!k) throw std::invalid_argument(k.why);
-      return LaceChartFile{parsed.chart, parsed.cast_on};
+      chart = LaceChartFile{parsed.chart, parsed.cast_on};
     }
+    // What evolve() takes as a start (it would refuse the rest without naming the key).
+    if (chart.cast_on < 2 || chart.cast_on > 200)
+      throw std::invalid_argument("the chart is worked over " + std::to_string(chart.cast_on) +
+                                  " stitches; a start chart needs 2 to 200");
+    if (chart.chart.rows.size() > 200)
+      throw std::invalid_argument("the chart has " + std::to_string(chart.chart.rows.size()) +
+                                  " right-side rows; a start chart may have at most 200");
+    const int last = lace::produced(chart.chart.rows.back());
+    if (last != chart.cast_on)
+      throw std::invalid_argument("the chart ends " + std::to_string(last) + " stitches wide but starts from " +
+                                  std::to_string(chart.cast_on) + " (eq. 1: it must end as wide as it starts)");
+    return chart;
   } catch (const std::invalid_argument& e) {
-    const std::string where = p.start_chart_file ? p.start_chart_file->string() : std::string("inline rows");
-    const std::string what = e.what();
-    // lace_chart_from_json already names the file.
-    throw ParamError("start_chart: " + (what.rfind(where, 0) == 0 ? what : where + ": " + what));
+    std::string what = e.what();
+    if (what.rfind(": ", 0) == 0) what.erase(0, 2);  // lace_chart_from_json's empty source
+    throw ParamError(p.start_chart_where + where + ": " + what);
   }
-  return std::nullopt;
+}
+
+// The job file's own table: its nodes know their file and line, which the merged parameters'
+// copies do not (toml++ copies no source). Empty for "-", a non-TOML input or one that does
+// not parse (atelier-convert has parsed it already).
+toml::table job_table(const ConvertRequest& req) {
+  if (req.input.empty() || req.input == "-" || req.input.extension() != ".toml") return {};
+  try {
+    return toml::parse_file(req.input.string());
+  } catch (const toml::parse_error&) {
+    return {};
+  }
+}
+
+// "FILE:LINE: key 'KEY': ", the job file's line when the key is in it.
+std::string key_where(const toml::table& job, const ConvertRequest& req, const std::string& key) {
+  if (job.contains(key)) return lace_key_where(job, key, req.input.string());
+  return lace_key_where(req.params, key, req.params_source);
+}
+
+// What one job may ask for, so that a job file cannot take the machine's memory or run for
+// days (measured on 2 cores: 500 x 200 generations of 200 x 200 charts take ~1.1 GB and ~5
+// min; 20000 individuals take ~4 s a generation for their niche counts alone).
+constexpr double kMaxPopulationCells = 2e7;   // population x width x rows: the forests in memory
+constexpr double kMaxEvolveCells = 4e9;       // x generations: evaluation and breeding
+constexpr double kMaxEvolvePairs = 2e10;      // population^2 x generations: fitness sharing
+constexpr double kMaxSwatchStitches = 5e5;    // (width x repeats_wide) x (rows x repeats_high)
+
+// Throws ParamError naming the key that takes the job over a limit. width and rows are the
+// chart's (the start chart's when there is one).
+void check_budget(const LaceParams& p, int width, int rows, const toml::table& job,
+                  const ConvertRequest& req) {
+  const toml::table& params = req.params;
+  const double cells = static_cast<double>(width) * rows, pop = p.population, gens = p.generations;
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw ParamError(key_where(job, req, key) + what);
+  };
+  auto num = [](double v) { return std::to_string(static_cast<long long>(v)); };
+  const std::string chart = std::to_string(width) + " x " + std::to_string(rows) + " chart";
+  if (pop * cells > kMaxPopulationCells)
+    fail("population", "population " + num(pop) + " of a " + chart + " needs more than " +
+                           num(kMaxPopulationCells) + " chart cells in memory; use a smaller population");
+  if (gens * pop * cells > kMaxEvolveCells)
+    fail("generations", num(gens) + " generations x population " + num(pop) + " of a " + chart +
+                            " is more than " + num(kMaxEvolveCells) +
+                            " cells to evolve (minutes of work); use fewer generations or a smaller population");
+  if (gens * pop * pop > kMaxEvolvePairs)
+    fail("population", "population " + num(pop) + " for " + num(gens) + " generations compares more than " +
+                           num(kMaxEvolvePairs) + " pairs of charts (fitness sharing); use a smaller population");
+  const double swatch = static_cast<double>(width) * p.repeats_wide * rows * p.repeats_high;
+  if (swatch > kMaxSwatchStitches)
+    fail(params.contains("repeats_high") || !params.contains("repeats_wide") ? "repeats_high" : "repeats_wide",
+         "the swatch (" + std::to_string(p.repeats_wide) + " x " + std::to_string(p.repeats_high) +
+             " repeats of a " + chart + ") has more than " + num(kMaxSwatchStitches) +
+             " stitches for lace.k, the preview and the machine; use fewer repeats");
+}
+
+// The preview's largest side in pixels: stitches shrink (14 px down to 4) and then fewer repeats
+// are drawn until the picture fits (a 50 x 50 swatch at 14 px took 355 MB of PNG).
+constexpr int kMaxPreviewSide = 4096;
+
+lace::PreviewOptions preview_options(const lace::Chart& chart, int cast_on, const LaceParams& p) {
+  lace::PreviewOptions o;
+  o.repeats_x = p.repeats_wide;
+  o.repeats_y = p.repeats_high;
+  const bool stacks = lace::produced(chart.rows.back()) == cast_on;  // else drawn once high
+  const int rows = static_cast<int>(chart.rows.size());
+  auto fits = [&] {
+    const int row_px = std::max(3, static_cast<int>(std::lround(0.8 * o.stitch_px)));
+    return cast_on * o.repeats_x * o.stitch_px <= kMaxPreviewSide &&
+           2 * rows * (stacks ? o.repeats_y : 1) * row_px <= kMaxPreviewSide;
+  };
+  for (o.stitch_px = 14; o.stitch_px > 4 && !fits(); --o.stitch_px) {
+  }
+  while (!fits() && o.repeats_x > 1 && cast_on * o.repeats_x * o.stitch_px > kMaxPreviewSide) --o.repeats_x;
+  while (!fits() && o.repeats_y > 1) --o.repeats_y;
+  return o;
 }
 
 // Over all rows, each taken as repeated side by side (as the fabric has it).
@@ -116,13 +221,19 @@ nlohmann::json machine_json(const lace::Chart& chart, int cast_on, const LacePar
   ayab::PlanParams plan_params;
   const ayab::LacePlanResult plan =
       ayab::plan_lace(chart, cast_on, p.repeats_wide, p.repeats_high, plan_params);
+  // The first problems say what to change; a 200 x 200 chart can have thousands.
+  constexpr std::size_t kListed = 100;
+  const std::vector<std::string> listed(plan.problems.begin(),
+                                        plan.problems.begin() + static_cast<std::ptrdiff_t>(
+                                                                    std::min(kListed, plan.problems.size())));
   return {{"lace_carriage", plan.problems.empty()},
           {"machine", "kh930"},
           {"repeats_wide", p.repeats_wide},
           {"repeats_high", p.repeats_high},
           {"lace_passes", plan.lace_passes},
           {"knit_passes", plan.knit_passes},
-          {"problems", plan.problems},
+          {"problems", listed},
+          {"problems_total", plan.problems.size()},
           {"how", "per chart row: the lace carriage (parked left) transfers, then the knit "
                   "carriage knits the right-side row and the purl row"}};
 }
@@ -131,10 +242,22 @@ nlohmann::json machine_json(const lace::Chart& chart, int cast_on, const LacePar
 
 ConvertResult convert_lace(const ConvertRequest& req) {
   const auto t0 = Clock::now();
-  const LaceParams params = read_lace_params(req.params, req.params_source);
+  LaceParams params = read_lace_params(req.params, req.params_source);
+  const toml::table job = job_table(req);
+  if (job.contains("start_chart")) {
+    params.start_chart_where = key_where(job, req, "start_chart");
+    // A relative path in the job file is relative to the job file, also when the merged copy
+    // has forgotten where it came from (it would be taken from the working directory).
+    const toml::node* merged = req.params.get("start_chart");
+    if (params.start_chart_file && params.start_chart_file->is_relative() && merged && !merged->source().path &&
+        job.get("start_chart")->value<std::string>() == merged->value<std::string>())
+      params.start_chart_file = req.input.parent_path() / *params.start_chart_file;
+  }
   const std::string title =
       req.input.empty() || req.input == "-" ? std::string("lace") : req.input.stem().string();
   const std::optional<LaceChartFile> start = load_start_chart(params);
+  check_budget(params, start ? start->cast_on : params.width,
+               start ? static_cast<int>(start->chart.rows.size()) : params.rows, job, req);
   report_progress(req, 0.0);
 
   lace::EvolveParams ep;
@@ -145,6 +268,9 @@ ConvertResult convert_lace(const ConvertRequest& req) {
   ep.weights = {params.holes, params.knit_length, params.depth, params.symmetry};
   ep.width_tolerance = params.width_tolerance;
   ep.seed = params.seed;
+  // The defaults (tournament 4, 2 elites) need at least 5 individuals; population may be 2.
+  ep.tournament = std::min(ep.tournament, params.population);
+  ep.elites = std::min(ep.elites, params.population - 1);
   if (start) {
     ep.start = start->chart;
     ep.start_cast_on = start->cast_on;
@@ -192,10 +318,8 @@ ConvertResult convert_lace(const ConvertRequest& req) {
   write_output(out / "instructions.txt", lace::write_instructions(chart, cast_on, {title}));
   write_output(out / "lace.k",
                make_lace_knitout(chart, cast_on, {title, params.repeats_wide, params.repeats_high}));
-  lace::PreviewOptions preview_options;
-  preview_options.repeats_x = params.repeats_wide;
-  preview_options.repeats_y = params.repeats_high;
-  write_output_png(out / "preview.png", lace::render_preview(chart, cast_on, preview_options));
+  const lace::PreviewOptions preview = preview_options(chart, cast_on, params);
+  write_output_png(out / "preview.png", lace::render_preview(chart, cast_on, preview));
   report_progress(req, 0.95);
 
   std::vector<int> row_widths;
@@ -235,6 +359,8 @@ ConvertResult convert_lace(const ConvertRequest& req) {
       {"best_score", result.best_score},
       {"feasible_in_final_population", result.feasible_in_final_population},
       {"machine", machine_json(chart, cast_on, params)},
+      {"preview", {{"repeats_wide", preview.repeats_x}, {"repeats_high", preview.repeats_y},
+                   {"stitch_px", preview.stitch_px}}},
       {"params", params_json(params)},
       {"timings_s", {{"evolve", evolve_s}, {"outputs", seconds_since(t1)}}},
   };

@@ -13,9 +13,16 @@
 //                     parse back into the chart
 //   lace.k            knitout for a V-bed machine: lace by transfers with racking
 //   preview.png       the fabric, repeats_wide x repeats_high repeats (algorithms/lace/preview.h)
+//                     at most 4096 px a side: smaller stitches first, then fewer repeats
+//                     (report.json "preview" says what is drawn)
 //   report.json       fitness terms and weights, constraint check, stitch counts, generations
 //                     and the best score per generation, what the lace carriage of a Brother
-//                     machine (AYAB) can and cannot do with the chart and why, params, timings
+//                     machine (AYAB) can and cannot do with the chart and why (the first 100
+//                     problems and problems_total), params, timings
+// Limits beyond the parameters' ranges (a ParamError naming the key): population x width x
+// rows <= 2e7 (memory), x generations <= 4e9, population^2 x generations <= 2e10 (time), and
+// the swatch (width x repeats_wide) x (rows x repeats_high) <= 500000 stitches. A start chart
+// must be worked over 2..200 stitches, have at most 200 rows and end as wide as it starts.
 // Thread-safe per request (no shared state).
 #pragma once
 

@@ -4,6 +4,11 @@
 
 namespace atelier {
 
+std::string lace_key_where(const toml::table& table, const std::string& key, const std::string& source) {
+  const toml::node* node = table.get(key);
+  return (node ? where(*node, source) : source + ": ") + "key '" + key + "': ";
+}
+
 LaceParams read_lace_params(const toml::table& table, const std::string& source) {
   TableReader r(table, source, "");
   LaceParams p;
@@ -23,6 +28,7 @@ LaceParams read_lace_params(const toml::table& table, const std::string& source)
   p.seed = static_cast<std::uint64_t>(r.get_int("seed", 1, 0, int64_t{1} << 53));
   if (r.has("start_chart")) {
     const toml::node& node = *table.get("start_chart");
+    p.start_chart_where = lace_key_where(table, "start_chart", source);
     if (const toml::array* rows = node.as_array()) {
       for (const auto& row : *rows) {
         auto text = row.value_exact<std::string>();

@@ -43,6 +43,8 @@ struct LaceParams {
   std::uint64_t seed = 1;
   std::optional<std::filesystem::path> start_chart_file;  // resolved (absolute or cwd-relative)
   std::vector<std::string> start_rows;                    // inline rows; empty if none
+  // "FILE:LINE: key 'start_chart': ", the prefix of every message about the start chart.
+  std::string start_chart_where;
   bool lace_carriage = false;
   int repeats_wide = 3;
   int repeats_high = 3;
@@ -50,5 +52,10 @@ struct LaceParams {
 
 // Throws ParamError naming `source`, the line and the key.
 LaceParams read_lace_params(const toml::table& table, const std::string& source);
+
+// "FILE:LINE: key 'KEY': " for a key of `table` (its node names the file it came from), or
+// "SOURCE: key 'KEY': " when the key is absent or has no file: the start of a message about a
+// key of the merged parameters.
+std::string lace_key_where(const toml::table& table, const std::string& key, const std::string& source);
 
 }  // namespace atelier

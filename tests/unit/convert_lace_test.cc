@@ -57,6 +57,26 @@ class ConvertLaceTest : public ::testing::Test {
     }
     return "";
   }
+  // As atelier-convert (and so the daemon) does it: the job file's table merged into the
+  // parameters, whose copied nodes no longer know their file or line.
+  ConvertResult run_merged(const std::string& toml_text, const std::string& out = "out") {
+    std::ofstream(dir_ / "swatch.toml") << toml_text;
+    ConvertRequest req;
+    req.kind = "lace";
+    req.input = dir_ / "swatch.toml";
+    merge_into(req.params, toml::parse_file((dir_ / "swatch.toml").string()));
+    req.params_source = "parameters";
+    req.output_dir = dir_ / out;
+    return convert(req);
+  }
+  std::string merged_error_of(const std::string& toml_text) {
+    try {
+      run_merged(toml_text);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  }
   LaceChartFile chart_of(const std::string& out = "out") {
     return lace_chart_from_json(nlohmann::json::parse(slurp(dir_ / out / "chart.json")), "chart.json");
   }
@@ -164,6 +184,72 @@ TEST_F(ConvertLaceTest, WithTheLaceCarriageOnEveryChartIsOneTheCarriageCanKnit) 
     EXPECT_GT(m["knit_passes"].get<int>(), 0);
     for (const lace::Row& row : chart_of().chart.rows) EXPECT_EQ(lace::produced(row), 8);
   }
+}
+
+TEST_F(ConvertLaceTest, APopulationOfTwoEvolves) {
+  // The parameters allow population = 2; the tournament and elites must fit inside it.
+  const ConvertResult result = run("population = 2\ngenerations = 3\nwidth = 6\nrows = 4\n");
+  EXPECT_EQ(result.report["generations"], 3);
+  EXPECT_TRUE(lace::knittable(chart_of().chart, 6));
+}
+
+TEST_F(ConvertLaceTest, StartChartErrorsNameTheJobFileLineAndKey) {
+  const std::string job = (dir_ / "swatch.toml").string();
+  EXPECT_EQ(merged_error_of("population = 4\nstart_chart = \"nowhere.json\"\n"),
+            job + ":2: key 'start_chart': " + (dir_ / "nowhere.json").string() + ": no such file");
+  fs::create_directories(dir_ / "charts");
+  EXPECT_EQ(merged_error_of("start_chart = \"charts\"\n"),
+            job + ":1: key 'start_chart': " + (dir_ / "charts").string() +
+                ": a folder, not a chart file (chart.json or instructions.txt)");
+  EXPECT_THAT(merged_error_of("start_chart = [\"k1\"]\n"),
+              HasSubstr(":1: key 'start_chart': inline rows: the chart is worked over 1 stitches"));
+  EXPECT_THAT(merged_error_of("start_chart = [\"k2, yo\"]\n"),
+              HasSubstr(":1: key 'start_chart': inline rows: the chart ends 3 stitches wide but starts from 2"));
+  std::string tall;
+  for (int r = 0; r < 201; ++r) tall += std::string(r ? ", " : "") + "\"k4\"";
+  EXPECT_THAT(merged_error_of("start_chart = [" + tall + "]\n"), HasSubstr("201 right-side rows"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "chart.json"));
+
+  // A relative start chart is found beside the job file, not in the working directory.
+  std::ofstream(dir_ / "charts" / "eyelet.json") << R"({"rows": [["k", "yo", "k2tog", "k"], ["k", "k", "k", "k"]]})";
+  run_merged("generations = 0\npopulation = 4\nstart_chart = \"charts/eyelet.json\"\n");
+  EXPECT_EQ(chart_of().cast_on, 4);
+}
+
+TEST_F(ConvertLaceTest, JobsTooBigForMemoryOrTimeAreRefusedByKey) {
+  const std::string job = (dir_ / "swatch.toml").string();
+  // ~100 GB of forests, and 10^10 niche comparisons per generation.
+  EXPECT_THAT(merged_error_of("width = 200\nrows = 200\npopulation = 100000\n"),
+              HasSubstr(job + ":3: key 'population': population 100000 of a 200 x 200 chart"));
+  EXPECT_THAT(merged_error_of("population = 100000\ngenerations = 10\n"),
+              HasSubstr(job + ":1: key 'population': population 100000 for 10 generations"));
+  EXPECT_THAT(merged_error_of("width = 200\nrows = 200\ngenerations = 100000\n"),
+              HasSubstr(job + ":3: key 'generations': 100000 generations x population 500"));
+  // A 10000 x 10000 stitch swatch: gigabytes of lace.k.
+  EXPECT_THAT(merged_error_of("width = 200\nrows = 200\nrepeats_wide = 50\nrepeats_high = 50\n"),
+              HasSubstr(job + ":4: key 'repeats_high': the swatch (50 x 50 repeats of a 200 x 200 chart)"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "chart.json"));
+}
+
+TEST_F(ConvertLaceTest, AWideSwatchGetsAPreviewOfBoundedSize) {
+  // 50 repeats of 200 stitches at 14 px would be 140000 px wide.
+  const ConvertResult result =
+      run("population = 6\ngenerations = 1\nwidth = 200\nrows = 1\nrepeats_wide = 50\nrepeats_high = 1\n");
+  const cv::Mat preview = cv::imread((dir_ / "out" / "preview.png").string());
+  ASSERT_FALSE(preview.empty());
+  EXPECT_LE(preview.cols, 4096);
+  EXPECT_LE(preview.rows, 4096);
+  const nlohmann::json& shown = result.report["preview"];
+  EXPECT_EQ(preview.cols, 200 * shown["repeats_wide"].get<int>() * shown["stitch_px"].get<int>());
+  EXPECT_EQ(shown["repeats_wide"], 5) << "as many repeats as fit at the smallest stitches";
+  EXPECT_EQ(chart_of().repeats_wide, 50) << "the job still knits the whole swatch";
+
+  // Smaller stitches come first: 50 repeats of 8 fit at 10 px.
+  const ConvertResult narrow =
+      run("population = 6\ngenerations = 1\nwidth = 8\nrows = 1\nrepeats_wide = 50\nrepeats_high = 1\n", "narrow");
+  EXPECT_EQ(narrow.report["preview"]["repeats_wide"], 50);
+  EXPECT_EQ(narrow.report["preview"]["stitch_px"], 10);
+  EXPECT_EQ(cv::imread((dir_ / "narrow" / "preview.png").string()).cols, 4000);
 }
 
 }  // namespace
