@@ -37,16 +37,21 @@ LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& s
     out.chart.rows.push_back(std::move(row));
   }
   if (out.chart.rows.empty()) fail("the chart has no rows");
+  // Compared as 64-bit numbers: get<int>() would wrap 4294967308 round to 12.
+  auto whole = [&](const char* key, long long lo, long long hi) {
+    return j[key].is_number_integer() && j[key].get<long long>() >= lo && j[key].get<long long>() <= hi;
+  };
   if (j.contains("cast_on")) {
-    if (!j["cast_on"].is_number_integer()) fail("cast_on must be a whole number of stitches");
+    if (!whole("cast_on", 1, kMaxLaceChartCastOn))
+      fail("cast_on must be a whole number of stitches, 1 to " + std::to_string(kMaxLaceChartCastOn));
     out.cast_on = j["cast_on"].get<int>();
   } else {
     out.cast_on = lace::consumed(out.chart.rows[0]);
   }
   for (auto [key, field] : {std::pair{"repeats_wide", &out.repeats_wide}, {"repeats_high", &out.repeats_high}}) {
     if (!j.contains(key)) continue;
-    if (!j[key].is_number_integer() || j[key].get<int>() < 1)
-      fail(std::string(key) + " must be a whole number of repeats, at least 1");
+    if (!whole(key, 1, kMaxLaceChartRepeats))
+      fail(std::string(key) + " must be a whole number of repeats, 1 to " + std::to_string(kMaxLaceChartRepeats));
     *field = j[key].get<int>();
   }
   const lace::Knittability k = lace::knittable(out.chart, out.cast_on);

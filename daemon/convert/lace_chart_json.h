@@ -26,7 +26,11 @@ nlohmann::json lace_chart_to_json(const LaceChartFile& file);
 
 // Throws std::invalid_argument naming `source` and the problem (not an object, a row that
 // is not a list of symbol names, an unknown symbol, a chart that cannot be knitted from its
-// cast-on). A missing "cast_on" is taken as what row 0 is worked over; missing repeats are 1.
+// cast-on, cast_on outside 1..kMaxLaceChartCastOn, repeats outside 1..kMaxLaceChartRepeats as
+// a lace job's parameters allow). A missing "cast_on" is taken as what row 0 is worked over;
+// missing repeats are 1.
+inline constexpr int kMaxLaceChartCastOn = 10000;
+inline constexpr int kMaxLaceChartRepeats = 50;
 LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source);
 
 }  // namespace atelier
