@@ -215,7 +215,15 @@ void KnitDevice::knit(const Work& work) {
     knitting_started = true;
     const auto& starts = job_plan.row_start;
     const int from_pass = starts[static_cast<size_t>(work.from_row - 1)];
+    // A lace row is transfers, then knitting: stopped between them, its stitches would sit
+    // moved but unknitted, and resuming from that row would move them again. So a canceled
+    // lace job stops where a chart row begins (the knitter finishes the row in hand). The
+    // daemon stopping does not wait for that.
+    std::atomic<bool> stop_at_row_start{cancel.load()};
+    const bool whole_rows = job->kind == "lace";
     session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
+      if (cancel.load() && (stopping() || std::binary_search(starts.begin(), starts.end(), p.passes_done)))
+        stop_at_row_start = true;
       // Rows whose every pass is done.
       rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
                                    (starts.begin() + 1));
@@ -225,7 +233,7 @@ void KnitDevice::knit(const Work& work) {
         what += plan.carriage[static_cast<size_t>(p.passes_done)] == ayab::Carriage::lace ? "; next: lace carriage"
                                                                                         : "; next: knit carriage";
       jobs_.progress(id, rows_done, total_rows, what);
-    }, cancel);
+    }, whole_rows ? stop_at_row_start : cancel);
     link->close();
     if (cancel.load()) {
       end_early(id, rows_done, true);

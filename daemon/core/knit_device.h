@@ -10,7 +10,8 @@
 //
 // Life of a job here: ready -> running (planned onto the needle bed, session
 // opened, rows sent as the carriage asks) -> completed | canceled (stopped after the current
-// row with the blank last line, so the machine ends clean) | interrupted (link lost or machine
+// row with the blank last line, so the machine ends clean; a lace job after the current chart
+// row's last pass, its transfers and both knit rows) | interrupted (link lost or machine
 // silent: "device disconnected after row N"; `resume --from-row` continues) | failed (the
 // pattern does not fit, the firmware is too old, ...).
 // Online/offline: the port is watched while idle (its device node exists, or the USB device

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <random>
 #include <string>
@@ -321,8 +322,8 @@ struct LaceJobOnDevice {
     id = job.id;
   }
   // Runs the device until the job has finished (at most 30 s); `resume_from` resumes an
-  // interrupted job from that chart row first.
-  Job run(const std::string& port, int resume_from = 0) {
+  // interrupted job from that chart row first; the job is canceled once `cancel_when` says so.
+  Job run(const std::string& port, int resume_from = 0, const std::function<bool()>& cancel_when = {}) {
     DeviceConfig d;
     d.name = "knitter";
     d.driver = "ayab";
@@ -340,7 +341,9 @@ struct LaceJobOnDevice {
     if (resume_from > 0) device.resume(id, resume_from);
     device.start_worker();
     device.wake();
+    bool canceled = false;
     for (int i = 0; i < 3000; ++i) {
+      if (cancel_when && !canceled && cancel_when()) canceled = device.cancel(id);
       const auto job = store.get(id);
       if (job->state == JobState::completed || job->state == JobState::failed ||
           job->state == JobState::canceled || (i > 50 && job->state == JobState::interrupted))
@@ -424,6 +427,40 @@ TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty()) got.push_back(line);
   EXPECT_EQ(got, pass_lines(*plan.plan, first));
+}
+
+TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
+  test::TempDir emu_dir;
+  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
+  // Slow passes, so the cancel surely comes in the middle of chart row 1.
+  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+                                    link.string(), "--record", record.string(), "--row-ms", "150", "--boot-ms", "50"},
+                                   emu_dir.path() / "emu.log");
+  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
+  const auto plan = plan_lace(c, 4, 3, 2, {});
+  ASSERT_TRUE(plan.plan);
+  size_t row1 = 0;  // passes of chart row 1: lace-carriage transfers, then the two knit rows
+  while (plan.plan->pattern_row[row1] == 0) ++row1;
+  ASSERT_GE(row1, 5u);
+  auto recorded = [&] {
+    std::vector<std::string> got;
+    std::ifstream in(record);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) got.push_back(line);
+    return got;
+  };
+  LaceJobOnDevice rig(c, 4, 3, 2);
+  // Canceled once the first transfer pass is done: stopping there would leave the stitches
+  // moved but unknitted (and a resume from row 1 would move them again).
+  const Job job = rig.run(link.string(), 0, [&] { return !recorded().empty(); });
+  EXPECT_EQ(job.state, JobState::canceled) << job.reason;
+  EXPECT_EQ(job.progress_done, 1);
+  std::vector<std::string> row_one = pass_lines(*plan.plan, 0);
+  row_one.resize(row1);
+  EXPECT_EQ(recorded(), row_one) << "all of chart row 1, nothing of row 2"
+      << " (row 1 has " << row1 << " passes)";
 }
 
 }  // namespace
