@@ -181,6 +181,27 @@ lace::PreviewOptions preview_options(const lace::Chart& chart, int cast_on, cons
   return o;
 }
 
+// With generations = 0 the result is the start chart itself: one that breaks a constraint is
+// the job file's mistake, named here (evolve() would only say no chart was feasible).
+void check_start_feasible(const LaceChartFile& start, const lace::EvolveParams& ep, const LaceParams& p) {
+  const lace::Evaluation e = lace::evaluate(start.chart, start.cast_on, ep.weights, ep.width_tolerance);
+  std::vector<std::string> broken;
+  if (e.constraints.adjacent_yo_excess > 0) broken.push_back("more than two yarn-overs side by side");
+  if (e.constraints.width_excess > 0)
+    broken.push_back("a row wider or narrower than width_tolerance = " + std::to_string(ep.width_tolerance) +
+                     " allows");
+  if (ep.extra_violations) {
+    const ayab::LacePlanResult plan = ayab::plan_lace(start.chart, start.cast_on, p.repeats_wide, 1, {});
+    if (!plan.problems.empty()) broken.push_back("the lace carriage cannot knit it (" + plan.problems.front() + ")");
+  }
+  if (broken.empty()) return;
+  std::string list;
+  for (const std::string& b : broken) list += (list.empty() ? "" : "; ") + b;
+  throw ParamError(p.start_chart_where +
+                   (p.start_chart_file ? p.start_chart_file->string() : std::string("inline rows")) +
+                   ": with generations = 0 the result is this chart, but it breaks the constraints: " + list);
+}
+
 // Over all rows, each taken as repeated side by side (as the fabric has it).
 int max_adjacent_yarn_overs(const lace::Chart& chart) {
   int most = 0;
@@ -286,6 +307,7 @@ ConvertResult convert_lace(const ConvertRequest& req) {
   ep.progress = [&req](int generation, int generations) {
     report_progress(req, 0.85 * generation / std::max(1, generations));
   };
+  if (start && params.generations == 0) check_start_feasible(*start, ep, params);
   lace::EvolveResult result;
   try {
     result = lace::evolve(ep);

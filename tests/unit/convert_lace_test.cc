@@ -216,6 +216,32 @@ TEST_F(ConvertLaceTest, StartChartErrorsNameTheJobFileLineAndKey) {
   EXPECT_EQ(chart_of().cast_on, 4);
 }
 
+TEST_F(ConvertLaceTest, AnInfeasibleStartChartWithNoGenerationsSaysWhatItBreaks) {
+  // evolve() only said "no chart satisfied the constraints", naming neither file nor key.
+  const std::string job = (dir_ / "swatch.toml").string();
+  EXPECT_EQ(merged_error_of("generations = 0\nstart_chart = [\"yo, yo, yo, sk2p, k2tog\"]\n"),
+            job + ":2: key 'start_chart': inline rows: with generations = 0 the result is this chart, but it "
+                  "breaks the constraints: more than two yarn-overs side by side");
+  EXPECT_THAT(merged_error_of("generations = 0\nwidth_tolerance = 0\nstart_chart = [\"yo, k4\", \"k2tog, k3\"]\n"),
+              HasSubstr("breaks the constraints: a row wider or narrower than width_tolerance = 0 allows"));
+  EXPECT_THAT(merged_error_of("generations = 0\nlace_carriage = true\nstart_chart = [\"k1, yo, k2tog, k1\"]\n"),
+              HasSubstr(":3: key 'start_chart': inline rows: with generations = 0 the result is this chart, but "
+                        "it breaks the constraints: the lace carriage cannot knit it (row 1 (RS), stitch 3 (k2tog)"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "chart.json"));
+}
+
+TEST_F(ConvertLaceTest, TheReportListsTheFirstHundredCarriageProblemsAndCountsThemAll) {
+  // One problem per row (a yarn-over before a k2tog); a 200 x 200 chart listed thousands.
+  std::string rows;
+  for (int r = 0; r < 120; ++r) rows += std::string(r ? ", " : "") + "\"k1, yo, k2tog, k1\"";
+  const ConvertResult result = run("generations = 0\npopulation = 2\nstart_chart = [" + rows + "]\n");
+  const nlohmann::json& m = result.report["machine"];
+  EXPECT_FALSE(m["lace_carriage"].get<bool>());
+  EXPECT_EQ(m["problems"].size(), 100u);
+  EXPECT_EQ(m["problems_total"], 120);
+  EXPECT_THAT(m["problems"][0].get<std::string>(), HasSubstr("row 1 (RS), stitch 3 (k2tog)"));
+}
+
 TEST_F(ConvertLaceTest, JobsTooBigForMemoryOrTimeAreRefusedByKey) {
   const std::string job = (dir_ / "swatch.toml").string();
   // ~100 GB of forests, and 10^10 niche comparisons per generation.
