@@ -146,6 +146,14 @@ void transfer_row(Writer& w, const lace::RowTransfers& t, int right) {
   w.rack(0);
 }
 
+// The title as one comment line: a line break in it (a job file's name may hold one) would
+// start a line of knitout operations.
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
 }  // namespace
 
 std::string make_lace_knitout(const lace::Chart& chart, int cast_on, const LaceKnitoutOptions& o) {
@@ -178,7 +186,7 @@ std::string make_lace_knitout(const lace::Chart& chart, int cast_on, const LaceK
       << ";;Width: " << needles << "\n"
       << ";;Carriers: 1\n"
       << ";;Position: Center\n"
-      << "; " << o.title << "\n"
+      << "; " << one_line(o.title) << "\n"
       << "; lace, " << chart.rows.size() << " chart rows x " << o.repeats_high << ", " << cast_on
       << " stitches x " << o.repeats_wide << " repeats; stitches on the front bed, lace by transfers\n"
       << "; needle f" << right << " = first stitch of each right-side row (its right edge)\n";

@@ -211,6 +211,15 @@ TEST(LaceKnitout, HeaderLines) {
   EXPECT_EQ(k.find("; row 4\n"), std::string::npos);  // 1 chart row x 3 repeats high
 }
 
+TEST(LaceKnitout, ATitleWithLineBreaksStaysOneComment) {
+  LaceKnitoutOptions o;
+  o.title = "swatch\nknit + f1 1\rdrop f2";
+  const std::string k = make_lace_knitout(Chart{{row({"k", "k"})}}, 2, o);
+  EXPECT_NE(k.find("; swatch knit + f1 1 drop f2\n"), std::string::npos);
+  EXPECT_EQ(k.find("\nknit + f1 1\n"), std::string::npos);
+  EXPECT_EQ(k.find("\ndrop"), std::string::npos);
+}
+
 TEST(LaceKnitout, HandMadeChartsKnitTheirStitches) {
   expect_fabric(Chart{{knit(6), row({"k", "k2tog", "yo", "k", "k", "k"})}}, 6, 3, 2);
   // The stacking orders the lace carriage cannot do are plain racking work here.
