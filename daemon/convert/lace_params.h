@@ -21,6 +21,8 @@
 //                                the swatch: preview, knitout and the knitting machine knit the
 //                                chart this many times side by side and on top of itself
 //   kind = "lace"                allowed (a job file names its kind); any other value is an error
+// Each key is checked on its own here; the conversion also bounds their products (memory,
+// time, swatch size: lace_job.h) once all layers are merged.
 // Thread-safe (no shared state).
 #pragma once
 
