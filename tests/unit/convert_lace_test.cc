@@ -39,44 +39,36 @@ class ConvertLaceTest : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
-  ConvertResult run(const std::string& toml_text, const std::string& out = "out") {
+  enum class Params { parsed, merged };
+  // The job file swatch.toml holding `toml_text`, converted into `out`. Params::parsed hands
+  // the parsed table over as it is; Params::merged does what atelier-convert (and so the
+  // daemon) does, merging it into the parameters, whose copied nodes forget their file and line.
+  ConvertResult run(const std::string& toml_text, const std::string& out = "out", Params how = Params::parsed) {
     std::ofstream(dir_ / "swatch.toml") << toml_text;  // relative paths follow the job file
     ConvertRequest req;
     req.kind = "lace";
     req.input = dir_ / "swatch.toml";
-    req.params = toml::parse(toml_text, std::string_view{(dir_ / "swatch.toml").string()});
-    req.params_source = (dir_ / "swatch.toml").string();
+    toml::table parsed = toml::parse(toml_text, std::string_view{(dir_ / "swatch.toml").string()});
+    if (how == Params::merged) {
+      merge_into(req.params, parsed);
+      req.params_source = "parameters";
+    } else {
+      req.params = std::move(parsed);  // moved: a copy would forget the source
+      req.params_source = (dir_ / "swatch.toml").string();
+    }
     req.output_dir = dir_ / out;
     return convert(req);
   }
-  std::string error_of(const std::string& toml_text) {
+  ConvertResult run_merged(const std::string& toml_text) { return run(toml_text, "out", Params::merged); }
+  std::string error_of(const std::string& toml_text, Params how = Params::parsed) {
     try {
-      run(toml_text);
+      run(toml_text, "out", how);
     } catch (const std::exception& e) {
       return e.what();
     }
     return "";
   }
-  // As atelier-convert (and so the daemon) does it: the job file's table merged into the
-  // parameters, whose copied nodes no longer know their file or line.
-  ConvertResult run_merged(const std::string& toml_text, const std::string& out = "out") {
-    std::ofstream(dir_ / "swatch.toml") << toml_text;
-    ConvertRequest req;
-    req.kind = "lace";
-    req.input = dir_ / "swatch.toml";
-    merge_into(req.params, toml::parse_file((dir_ / "swatch.toml").string()));
-    req.params_source = "parameters";
-    req.output_dir = dir_ / out;
-    return convert(req);
-  }
-  std::string merged_error_of(const std::string& toml_text) {
-    try {
-      run_merged(toml_text);
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "";
-  }
+  std::string merged_error_of(const std::string& toml_text) { return error_of(toml_text, Params::merged); }
   LaceChartFile chart_of(const std::string& out = "out") {
     return lace_chart_from_json(nlohmann::json::parse(slurp(dir_ / out / "chart.json")), "chart.json");
   }
