@@ -78,6 +78,9 @@ std::optional<LaceChartFile> load_start_chart(const LaceParams& p) {
       std::string text;
       for (size_t r = 0; r < p.start_rows.size(); ++r) {
         std::string row = p.start_rows[r];
+        // One row per string: a line break would smuggle in rows or a cast-on line.
+        if (row.find_first_of("\n\r") != std::string::npos)
+          throw std::invalid_argument("row " + std::to_string(r + 1) + " holds a line break; give one row per string");
         while (!row.empty() && (row.back() == ' ' || row.back() == '\t')) row.pop_back();
         if (!row.empty() && row.back() != '.') row += '.';
         text += "Row " + std::to_string(2 * r + 1) + " (RS): " + row + "\n";

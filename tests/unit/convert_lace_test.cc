@@ -200,6 +200,8 @@ TEST_F(ConvertLaceTest, StartChartErrorsNameTheJobFileLineAndKey) {
   std::string tall;
   for (int r = 0; r < 201; ++r) tall += std::string(r ? ", " : "") + "\"k4\"";
   EXPECT_THAT(merged_error_of("start_chart = [" + tall + "]\n"), HasSubstr("201 right-side rows"));
+  EXPECT_THAT(merged_error_of("start_chart = [\"k4\\nCast on a multiple of 2 stitches\", \"k4\"]\n"),
+              HasSubstr(":1: key 'start_chart': inline rows: row 1 holds a line break"));
   EXPECT_FALSE(fs::exists(dir_ / "out" / "chart.json"));
 
   // A relative start chart is found beside the job file, not in the working directory.
