@@ -14,9 +14,10 @@ namespace fs = std::filesystem;
 namespace atelier {
 namespace {
 
-// How the user continues a job that stopped after `rows_done` rows.
-std::string resume_hint(int64_t id, int rows_done) {
-  return "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
+// How the user continues a job that stopped after `rows_done` rows; `in_progress` is the
+// note on a lace row stopped part way ("" when none was).
+std::string resume_hint(int64_t id, int rows_done, const std::string& in_progress = "") {
+  return in_progress + "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
          std::to_string(rows_done + 1);
 }
 
@@ -156,12 +157,12 @@ bool KnitDevice::run_next() {
   return true;
 }
 
-void KnitDevice::end_early(int64_t id, int rows_done, bool knitting_started) {
+void KnitDevice::end_early(int64_t id, int rows_done, bool knitting_started, const std::string& in_progress) {
   if (stopping()) {
     // Never canceled by a shutdown, and never resumed without an operator.
     jobs_.transition(id, JobState::interrupted, "atelierd stopped after row " +
                                                     std::to_string(rows_done) + "; " +
-                                                    resume_hint(id, rows_done));
+                                                    resume_hint(id, rows_done, in_progress));
   } else if (knitting_started) {
     jobs_.transition(id, JobState::canceled,
                      "canceled after row " + std::to_string(rows_done) +
@@ -184,6 +185,10 @@ void KnitDevice::knit(const Work& work) {
   // Rows knitted so far, counted from 1 as the knitter counts them.
   int rows_done = work.from_row - 1;
   bool knitting_started = false;
+  // A lace chart row stopped between its first and last pass: its stitches may have been
+  // moved by the lace carriage and not knitted yet, so resuming that row as planned would
+  // move them again. Said with the resume hint.
+  std::string in_progress;
   try {
     const JobPlan job_plan = plan_job(*job);
     const ayab::KnitPlan& plan = job_plan.plan;
@@ -224,6 +229,17 @@ void KnitDevice::knit(const Work& work) {
     session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
       if (cancel.load() && (stopping() || std::binary_search(starts.begin(), starts.end(), p.passes_done)))
         stop_at_row_start = true;
+      in_progress.clear();
+      if (whole_rows && !std::binary_search(starts.begin(), starts.end(), p.passes_done)) {
+        const auto next = std::upper_bound(starts.begin(), starts.end(), p.passes_done);
+        const int row = static_cast<int>(next - starts.begin());  // 1-based chart row in hand
+        in_progress = "chart row " + std::to_string(row) + " stopped after " +
+                      std::to_string(p.passes_done - *(next - 1)) + " of its " + std::to_string(*next - *(next - 1)) +
+                      " passes: its stitches may be moved but not knitted; put them back as " +
+                      (row == 1 ? std::string("the cast-on") : "chart row " + std::to_string(row - 1)) +
+                      " left them (or finish the row by hand and resume from row " +
+                      std::to_string(row + 1) + "); ";
+      }
       // Rows whose every pass is done.
       rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
                                    (starts.begin() + 1));
@@ -236,7 +252,7 @@ void KnitDevice::knit(const Work& work) {
     }, whole_rows ? stop_at_row_start : cancel);
     link->close();
     if (cancel.load()) {
-      end_early(id, rows_done, true);
+      end_early(id, rows_done, true, in_progress);
     } else {
       jobs_.transition(id, JobState::completed,
                        "knitted " + std::to_string(total_rows) + " rows on " + config_.name);
@@ -248,13 +264,13 @@ void KnitDevice::knit(const Work& work) {
       set_state("offline", e.what());
       jobs_.transition(id, JobState::interrupted, "device disconnected after row " +
                                                       std::to_string(rows_done) + "; " +
-                                                      resume_hint(id, rows_done));
+                                                      resume_hint(id, rows_done, in_progress));
     }
   } catch (const ayab::AyabError& e) {
     if (knitting_started) {
       jobs_.transition(id, JobState::interrupted,
                        std::string(e.what()) + " (after row " + std::to_string(rows_done) + "; " +
-                           resume_hint(id, rows_done) + ")");
+                           resume_hint(id, rows_done, in_progress) + ")");
     } else {
       jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
     }

@@ -12,7 +12,8 @@
 // opened, rows sent as the carriage asks) -> completed | canceled (stopped after the current
 // row with the blank last line, so the machine ends clean; a lace job after the current chart
 // row's last pass, its transfers and both knit rows) | interrupted (link lost or machine
-// silent: "device disconnected after row N"; `resume --from-row` continues) | failed (the
+// silent: "device disconnected after row N"; `resume --from-row` continues; a lace chart row
+// stopped between its passes is named, as its stitches may be moved but not knitted) | failed (the
 // pattern does not fit, the firmware is too old, ...).
 // Online/offline: the port is watched while idle (its device node exists, or the USB device
 // maps to a tty); it is only opened for a job, since opening resets an Arduino.
@@ -60,7 +61,7 @@ class KnitDevice : public DeviceWorker {
   void knit(const Work& work);
   // The job stopped on purpose (cancel, or the daemon stopping): canceled, or interrupted
   // when the daemon stops (so it is never resumed without an operator).
-  void end_early(int64_t id, int rows_done, bool knitting_started);
+  void end_early(int64_t id, int rows_done, bool knitting_started, const std::string& in_progress = "");
   ayab::PlanParams plan_params() const;
   // What the job knits: its passes and where each row (counted from 0) starts.
   struct JobPlan {

@@ -5,6 +5,7 @@
 // chart's stitches. Charts the carriage cannot do must come back as problems naming the row.
 // On the knitting-machine device: a lace job's passes reach the emulator as planned, and a
 // chart the carriage cannot do fails before the port is opened.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -461,6 +462,28 @@ TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
   row_one.resize(row1);
   EXPECT_EQ(recorded(), row_one) << "all of chart row 1, nothing of row 2"
       << " (row 1 has " << row1 << " passes)";
+}
+
+TEST(AyabLacePlanOnTheMachine, ALinkLostInTheMiddleOfAChartRowSaysSoWithTheResumeHint) {
+  test::TempDir emu_dir;
+  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
+  // Unplugged after the second pass of chart row 1 (8 passes: transfers, then two knit rows).
+  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+                                    link.string(), "--record", record.string(), "--row-ms", "5", "--boot-ms", "50",
+                                    "--fault", "drop-after-row=2:60000"},
+                                   emu_dir.path() / "emu.log");
+  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
+  LaceJobOnDevice rig(c, 4, 3, 2);
+  const Job job = rig.run(link.string());
+  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
+  EXPECT_EQ(job.progress_done, 0);
+  // Resuming chart row 1 as planned would move the moved stitches again: the reason says so.
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("chart row 1 stopped after "));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("of its 8 passes: its stitches may be moved but not knitted; put "
+                                               "them back as the cast-on left them"));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("--from-row 1"));
 }
 
 }  // namespace
