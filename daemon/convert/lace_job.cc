@@ -262,28 +262,9 @@ nlohmann::json machine_json(const lace::Chart& chart, int cast_on, const LacePar
                   "carriage knits the right-side row and the purl row"}};
 }
 
-}  // namespace
-
-ConvertResult convert_lace(const ConvertRequest& req) {
-  const auto t0 = Clock::now();
-  LaceParams params = read_lace_params(req.params, req.params_source);
-  const toml::table job = job_table(req);
-  if (job.contains("start_chart")) {
-    params.start_chart_where = key_where(job, req, "start_chart");
-    // A relative path in the job file is relative to the job file, also when the merged copy
-    // has forgotten where it came from (it would be taken from the working directory).
-    const toml::node* merged = req.params.get("start_chart");
-    if (params.start_chart_file && params.start_chart_file->is_relative() && merged && !merged->source().path &&
-        job.get("start_chart")->value<std::string>() == merged->value<std::string>())
-      params.start_chart_file = req.input.parent_path() / *params.start_chart_file;
-  }
-  const std::string title =
-      req.input.empty() || req.input == "-" ? std::string("lace") : req.input.stem().string();
-  const std::optional<LaceChartFile> start = load_start_chart(params);
-  check_budget(params, start ? start->cast_on : params.width,
-               start ? static_cast<int>(start->chart.rows.size()) : params.rows, job, req);
-  report_progress(req, 0.0);
-
+// The evolution the parameters ask for (progress reported through the request).
+lace::EvolveParams evolve_params(const LaceParams& params, const std::optional<LaceChartFile>& start,
+                                 const ConvertRequest& req) {
   lace::EvolveParams ep;
   ep.width = params.width;
   ep.rows = params.rows;
@@ -310,6 +291,83 @@ ConvertResult convert_lace(const ConvertRequest& req) {
   ep.progress = [&req](int generation, int generations) {
     report_progress(req, 0.85 * generation / std::max(1, generations));
   };
+  return ep;
+}
+
+// report.json: the chart's constraint check and fitness terms, the evolution, what the lace
+// carriage can do, what the preview shows, the parameters and timings.
+nlohmann::json report_json(const ConvertRequest& req, const std::string& title, const LaceParams& params,
+                           const std::optional<LaceChartFile>& start, const lace::EvolveResult& result,
+                           const lace::PreviewOptions& preview, double evolve_s, double outputs_s) {
+  const lace::Chart& chart = result.chart;
+  const int cast_on = result.cast_on;
+  std::vector<int> row_widths;
+  for (const lace::Row& row : chart.rows) row_widths.push_back(lace::produced(row));
+  const lace::Evaluation& ev = result.evaluation;
+  const lace::Knittability knit = lace::knittable(chart, cast_on);
+  return {
+      {"kind", "lace"},
+      {"input", req.input == "-" ? std::string("-") : req.input.filename().string()},
+      {"title", title},
+      {"cast_on", cast_on},
+      {"rows", chart.rows.size()},
+      {"row_widths", row_widths},
+      {"start_chart", start ? nlohmann::json(params_json(params)["start_chart"]) : nlohmann::json(nullptr)},
+      {"constraints",
+       {{"knittable", knit.ok},
+        {"yarn_over_balance", lace::yarn_over_balance(chart)},
+        {"max_adjacent_yarn_overs", max_adjacent_yarn_overs(chart)},
+        {"adjacent_yarn_overs_ok", lace::adjacent_yarn_overs_ok(chart, true)},
+        {"width_tolerance", params.width_tolerance},
+        {"width_ok", lace::width_ok(chart, params.width_tolerance)},
+        {"all_satisfied", ev.constraints.ok()}}},
+      {"fitness",
+       {{"score", ev.score},
+        {"holes", ev.objectives.holes},
+        {"knit_length", ev.objectives.knit_length},
+        {"depth", ev.objectives.depth},
+        {"symmetry", ev.objectives.symmetry},
+        {"weights",
+         {{"holes", params.holes},
+          {"knit_length", params.knit_length},
+          {"depth", params.depth},
+          {"symmetry", params.symmetry}}}}},
+      {"stitches", stitch_counts(chart)},
+      {"generations", result.generations_run},
+      {"population", params.population},
+      {"best_score", result.best_score},
+      {"feasible_in_final_population", result.feasible_in_final_population},
+      {"machine", machine_json(chart, cast_on, params)},
+      {"preview", {{"repeats_wide", preview.repeats_x}, {"repeats_high", preview.repeats_y},
+                   {"stitch_px", preview.stitch_px}}},
+      {"params", params_json(params)},
+      {"timings_s", {{"evolve", evolve_s}, {"outputs", outputs_s}}},
+  };
+}
+
+}  // namespace
+
+ConvertResult convert_lace(const ConvertRequest& req) {
+  const auto t0 = Clock::now();
+  LaceParams params = read_lace_params(req.params, req.params_source);
+  const toml::table job = job_table(req);
+  if (job.contains("start_chart")) {
+    params.start_chart_where = key_where(job, req, "start_chart");
+    // A relative path in the job file is relative to the job file, also when the merged copy
+    // has forgotten where it came from (it would be taken from the working directory).
+    const toml::node* merged = req.params.get("start_chart");
+    if (params.start_chart_file && params.start_chart_file->is_relative() && merged && !merged->source().path &&
+        job.get("start_chart")->value<std::string>() == merged->value<std::string>())
+      params.start_chart_file = req.input.parent_path() / *params.start_chart_file;
+  }
+  const std::string title =
+      req.input.empty() || req.input == "-" ? std::string("lace") : req.input.stem().string();
+  const std::optional<LaceChartFile> start = load_start_chart(params);
+  check_budget(params, start ? start->cast_on : params.width,
+               start ? static_cast<int>(start->chart.rows.size()) : params.rows, job, req);
+  report_progress(req, 0.0);
+
+  const lace::EvolveParams ep = evolve_params(params, start, req);
   if (start && params.generations == 0) check_start_feasible(*start, ep, params);
   lace::EvolveResult result;
   try {
@@ -347,48 +405,8 @@ ConvertResult convert_lace(const ConvertRequest& req) {
   write_output_png(out / "preview.png", lace::render_preview(chart, cast_on, preview));
   report_progress(req, 0.95);
 
-  std::vector<int> row_widths;
-  for (const lace::Row& row : chart.rows) row_widths.push_back(lace::produced(row));
-  const lace::Evaluation& ev = result.evaluation;
-  const lace::Knittability knit = lace::knittable(chart, cast_on);
-  nlohmann::json report = {
-      {"kind", "lace"},
-      {"input", req.input == "-" ? std::string("-") : req.input.filename().string()},
-      {"title", title},
-      {"cast_on", cast_on},
-      {"rows", chart.rows.size()},
-      {"row_widths", row_widths},
-      {"start_chart", start ? nlohmann::json(params_json(params)["start_chart"]) : nlohmann::json(nullptr)},
-      {"constraints",
-       {{"knittable", knit.ok},
-        {"yarn_over_balance", lace::yarn_over_balance(chart)},
-        {"max_adjacent_yarn_overs", max_adjacent_yarn_overs(chart)},
-        {"adjacent_yarn_overs_ok", lace::adjacent_yarn_overs_ok(chart, true)},
-        {"width_tolerance", params.width_tolerance},
-        {"width_ok", lace::width_ok(chart, params.width_tolerance)},
-        {"all_satisfied", ev.constraints.ok()}}},
-      {"fitness",
-       {{"score", ev.score},
-        {"holes", ev.objectives.holes},
-        {"knit_length", ev.objectives.knit_length},
-        {"depth", ev.objectives.depth},
-        {"symmetry", ev.objectives.symmetry},
-        {"weights",
-         {{"holes", params.holes},
-          {"knit_length", params.knit_length},
-          {"depth", params.depth},
-          {"symmetry", params.symmetry}}}}},
-      {"stitches", stitch_counts(chart)},
-      {"generations", result.generations_run},
-      {"population", params.population},
-      {"best_score", result.best_score},
-      {"feasible_in_final_population", result.feasible_in_final_population},
-      {"machine", machine_json(chart, cast_on, params)},
-      {"preview", {{"repeats_wide", preview.repeats_x}, {"repeats_high", preview.repeats_y},
-                   {"stitch_px", preview.stitch_px}}},
-      {"params", params_json(params)},
-      {"timings_s", {{"evolve", evolve_s}, {"outputs", seconds_since(t1)}}},
-  };
+  const nlohmann::json report =
+      report_json(req, title, params, start, result, preview, evolve_s, seconds_since(t1));
   write_output(out / "report.json", report.dump(2) + "\n");
   report_progress(req, 1.0);
   return {report,
