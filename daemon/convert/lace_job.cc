@@ -162,8 +162,12 @@ void check_budget(const LaceParams& p, int width, int rows, const toml::table& j
              " stitches for lace.k, the preview and the machine; use fewer repeats");
 }
 
-// The preview's largest side in pixels: stitches shrink (14 px down to 4) and then fewer repeats
-// are drawn until the picture fits (a 50 x 50 swatch at 14 px took 355 MB of PNG).
+// The preview's bounds: at most kMaxPreviewStitches stitches drawn (~50 us a stitch: a 200 x
+// 200 chart 3 x 3 took 37 s; one repeat is drawn whatever its size) and at most
+// kMaxPreviewSide pixels a side (a 50 x 50 swatch at 14 px took 355 MB of PNG). Fewer
+// repeats first for the stitches, then smaller stitches (14 px down to 4), then fewer repeats
+// again for the pixels.
+constexpr int kMaxPreviewStitches = 50000;
 constexpr int kMaxPreviewSide = 4096;
 
 lace::PreviewOptions preview_options(const lace::Chart& chart, int cast_on, const LaceParams& p) {
@@ -172,14 +176,19 @@ lace::PreviewOptions preview_options(const lace::Chart& chart, int cast_on, cons
   o.repeats_y = p.repeats_high;
   const bool stacks = lace::produced(chart.rows.back()) == cast_on;  // else drawn once high
   const int rows = static_cast<int>(chart.rows.size());
+  auto wide = [&] { return cast_on * o.repeats_x; };                  // stitches across
+  auto courses = [&] { return 2 * rows * (stacks ? o.repeats_y : 1); };  // RS and WS rows
+  while (wide() * courses() > kMaxPreviewStitches && (o.repeats_x > 1 || o.repeats_y > 1)) {
+    int& more = o.repeats_x >= o.repeats_y ? o.repeats_x : o.repeats_y;
+    --more;
+  }
   auto fits = [&] {
     const int row_px = std::max(3, static_cast<int>(std::lround(0.8 * o.stitch_px)));
-    return cast_on * o.repeats_x * o.stitch_px <= kMaxPreviewSide &&
-           2 * rows * (stacks ? o.repeats_y : 1) * row_px <= kMaxPreviewSide;
+    return wide() * o.stitch_px <= kMaxPreviewSide && courses() * row_px <= kMaxPreviewSide;
   };
   for (o.stitch_px = 14; o.stitch_px > 4 && !fits(); --o.stitch_px) {
   }
-  while (!fits() && o.repeats_x > 1 && cast_on * o.repeats_x * o.stitch_px > kMaxPreviewSide) --o.repeats_x;
+  while (!fits() && o.repeats_x > 1 && wide() * o.stitch_px > kMaxPreviewSide) --o.repeats_x;
   while (!fits() && o.repeats_y > 1) --o.repeats_y;
   return o;
 }

@@ -13,8 +13,9 @@
 //                     parse back into the chart
 //   lace.k            knitout for a V-bed machine: lace by transfers with racking
 //   preview.png       the fabric, repeats_wide x repeats_high repeats (algorithms/lace/preview.h)
-//                     at most 4096 px a side: smaller stitches first, then fewer repeats
-//                     (report.json "preview" says what is drawn)
+//                     at most 50000 stitches (fewer repeats, down to one) and 4096 px a
+//                     side (smaller stitches, then fewer repeats); report.json "preview" says
+//                     what is drawn
 //   report.json       fitness terms and weights, constraint check, stitch counts, generations
 //                     and the best score per generation, what the lace carriage of a Brother
 //                     machine (AYAB) can and cannot do with the chart and why (the first 100

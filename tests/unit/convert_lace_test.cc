@@ -174,6 +174,9 @@ TEST_F(ConvertLaceTest, WithTheLaceCarriageOnEveryChartIsOneTheCarriageCanKnit) 
     EXPECT_TRUE(m["lace_carriage"].get<bool>()) << m.dump();
     EXPECT_TRUE(m["problems"].empty()) << m.dump();
     EXPECT_GT(m["knit_passes"].get<int>(), 0);
+    // Not just plain knitting: the first generation pairs yarn-overs as the carriage can.
+    EXPECT_GE(result.report["stitches"]["yo"].get<int>(), 6) << result.report["stitches"].dump();
+    EXPECT_GT(m["lace_passes"].get<int>(), 0);
     for (const lace::Row& row : chart_of().chart.rows) EXPECT_EQ(lace::produced(row), 8);
   }
 }
@@ -270,6 +273,13 @@ TEST_F(ConvertLaceTest, AWideSwatchGetsAPreviewOfBoundedSize) {
   EXPECT_EQ(narrow.report["preview"]["repeats_wide"], 50);
   EXPECT_EQ(narrow.report["preview"]["stitch_px"], 10);
   EXPECT_EQ(cv::imread((dir_ / "narrow" / "preview.png").string()).cols, 4000);
+
+  // A big chart 3 x 3 would draw 54000 stitches (rows and their purl rows): 2 x 3 is 36000.
+  const ConvertResult big = run("population = 4\ngenerations = 1\nwidth = 60\nrows = 50\n", "big");
+  EXPECT_EQ(big.report["preview"]["repeats_wide"], 2);
+  EXPECT_EQ(big.report["preview"]["repeats_high"], 3);
+  EXPECT_EQ(cv::imread((dir_ / "big" / "preview.png").string()).cols,
+            120 * big.report["preview"]["stitch_px"].get<int>());
 }
 
 TEST(LaceChartJson, NumbersOutsideTheirRangeAreRefusedNotWrapped) {
