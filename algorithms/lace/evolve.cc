@@ -174,7 +174,7 @@ class Run {
   void random_population() {
     pop_.resize(p_.population);
     for (std::size_t i = 0; i < pop_.size(); ++i) {
-      pop_[i].forest = i % 2 == 0 ? encode(random_feasible_chart(width_, rows_, rng_), width_)
+      pop_[i].forest = i % 2 == 0 ? encode(random_feasible_chart(width_, rows_, rng_, p_.carriage_pairings), width_)
                                   : random_forest(width_, rows_, rng_);
       pop_[i].evaluated = false;
     }
@@ -200,7 +200,7 @@ class Run {
     for (std::size_t i = 1; i < pop_.size(); ++i) {
       pop_[i].evaluated = false;
       if (!feasible && i % 2 == 1) {
-        pop_[i].forest = encode(random_feasible_chart(width_, rows_, rng_), width_);
+        pop_[i].forest = encode(random_feasible_chart(width_, rows_, rng_, p_.carriage_pairings), width_);
         continue;
       }
       pop_[i].forest = start;

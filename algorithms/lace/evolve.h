@@ -54,6 +54,9 @@ struct EvolveParams {
   // also holds the plain chart (all k), which needs no transfers, so that a feasible chart
   // exists whenever the extra constraints accept plain knitting.
   std::function<int(const Chart&, int cast_on)> extra_violations;
+  // The first generation's row-by-row charts pair yarn-overs and decreases only as a lace
+  // carriage can (random_chart.h), so that charts for the machine start with lace in them.
+  bool carriage_pairings = false;
   // Called on the calling thread after each generation (1..generations). May be empty.
   std::function<void(int generation, int generations)> progress;
 };

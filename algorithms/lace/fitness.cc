@@ -87,7 +87,7 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
   c.balance_error = std::abs(cast_on - first_need) +
                     std::abs(cast_on - produced(chart.rows.back()));
 
-  long cells = 0, yarn_overs = 0, plain = 0, plain_on_plain = 0, mirror_matches = 0;
+  long cells = 0, yarn_overs = 0, plain = 0, plain_on_plain = 0, motif_cells = 0, mirror_matches = 0;
   for (int r = 0; r < rows; ++r) {
     const Row& row = chart.rows[r];
     const int n = produced(row);
@@ -103,7 +103,11 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
         ++plain;
         if (r > 0 && chart.rows[r - 1][below] == Symbol::k) ++plain_on_plain;
       }
-      if (s == mirrored(row[n - 1 - j])) ++mirror_matches;
+      const Symbol mirror = mirrored(row[n - 1 - j]);
+      if (s != Symbol::k || mirror != Symbol::k) {  // plain knitting is trivially symmetric
+        ++motif_cells;
+        if (s == mirror) ++mirror_matches;
+      }
       below += over(s);
     }
   }
@@ -135,7 +139,7 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
                              : static_cast<double>(plain) /
                                    static_cast<double>(plain - plain_on_plain) / rows;
   o.depth = static_cast<double>(reach_sum) / static_cast<double>(reach.size()) / rows;
-  o.symmetry = static_cast<double>(mirror_matches) / static_cast<double>(cells);
+  o.symmetry = motif_cells == 0 ? 0.0 : static_cast<double>(mirror_matches) / static_cast<double>(motif_cells);
   e.score = score(c, o, w);
   return e;
 }

@@ -53,7 +53,9 @@ struct Objectives {
   double depth = 0;
   // Symmetry: mirror symmetry about the chart's vertical centre line, each row mirrored about
   // its own centre (so rows of different widths are compared centred), k2tog mirroring to ssk
-  // and the others to themselves: the fraction of cells equal to their mirror image's symbol.
+  // and the others to themselves: of the motif's cells (those where the cell or its mirror
+  // image is not a plain stitch), the fraction equal to their mirror image's symbol; 0 for a
+  // chart without lace (plain knitting is trivially symmetric and must not win on it).
   double symmetry = 0;
 };
 

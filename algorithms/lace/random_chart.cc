@@ -71,7 +71,7 @@ Forest random_forest(int width, int rows, std::mt19937_64& rng) {
   return forest;
 }
 
-Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng) {
+Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng, bool carriage_pairings) {
   if (width < 1 || rows < 1) {
     throw std::invalid_argument("lace: random_feasible_chart: width and rows must be >= 1");
   }
@@ -88,9 +88,13 @@ Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng) {
       if (x < 12 && left >= 3) {
         row.insert(row.end(), {Symbol::yo, Symbol::sk2p, Symbol::yo});
       } else if (x < 20 && left >= 2) {
-        row.insert(row.end(), {Symbol::yo, Symbol::k2tog});
+        // A lace carriage lays the moved stitch on top, so it can make "k2tog, yo" and
+        // "yo, ssk" but not these two (transfers.h); the same draw then gives the mirror.
+        if (carriage_pairings) row.insert(row.end(), {Symbol::k2tog, Symbol::yo});
+        else row.insert(row.end(), {Symbol::yo, Symbol::k2tog});
       } else if (x < 28 && left >= 2) {
-        row.insert(row.end(), {Symbol::ssk, Symbol::yo});
+        if (carriage_pairings) row.insert(row.end(), {Symbol::yo, Symbol::ssk});
+        else row.insert(row.end(), {Symbol::ssk, Symbol::yo});
       } else if (x < 34 && left >= 2) {
         row.insert(row.end(), {Symbol::k2tog, Symbol::yo});
       } else if (x < 40 && left >= 2) {

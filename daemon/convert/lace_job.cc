@@ -7,11 +7,13 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <unordered_map>
 
 #include "algorithms/lace/evolve.h"
 #include "algorithms/lace/fitness.h"
 #include "algorithms/lace/instructions.h"
 #include "algorithms/lace/preview.h"
+#include "algorithms/lace/transfers.h"
 #include "daemon/convert/lace_chart.h"
 #include "daemon/convert/lace_chart_json.h"
 #include "daemon/convert/lace_knitout.h"
@@ -229,6 +231,20 @@ nlohmann::json stitch_counts(const lace::Chart& chart) {
   return counts;
 }
 
+// How many stitches of the row the lace carriage cannot do (transfers.h), for the evolution's
+// extra constraint. Children share most rows with their parents, so each evaluation thread
+// remembers its answers (the result is a pure function of the row; bounded memory).
+int carriage_problems(const lace::Row& row) {
+  thread_local std::unordered_map<std::string, int> known;
+  std::string key(row.size(), '\0');
+  for (size_t i = 0; i < row.size(); ++i) key[i] = static_cast<char>(row[i]);
+  if (auto it = known.find(key); it != known.end()) return it->second;
+  if (known.size() > 200000) known.clear();
+  const int n = static_cast<int>(lace::schedule_lace_row(row, 1, 0).problems.size());
+  known.emplace(std::move(key), n);
+  return n;
+}
+
 nlohmann::json params_json(const LaceParams& p) {
   nlohmann::json j = {{"width", p.width},
                       {"rows", p.rows},
@@ -291,10 +307,13 @@ lace::EvolveParams evolve_params(const LaceParams& params, const std::optional<L
   }
   ep.threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
   if (params.lace_carriage) {
-    const int repeats_wide = params.repeats_wide;
-    ep.extra_violations = [repeats_wide](const lace::Chart& chart, int cast_on) {
-      return static_cast<int>(
-          ayab::plan_lace(chart, cast_on, repeats_wide, 1, ayab::PlanParams{}).problems.size());
+    ep.carriage_pairings = true;
+    // Rows the lace carriage cannot do. Each repeat's transfers stay inside it (every row is
+    // balanced), so one repeat decides; the swatch's width is checked by the plan below.
+    ep.extra_violations = [](const lace::Chart& chart, int) {
+      int problems = 0;
+      for (const lace::Row& row : chart.rows) problems += carriage_problems(row);
+      return problems;
     };
   }
   ep.progress = [&req](int generation, int generations) {
