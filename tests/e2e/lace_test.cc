@@ -2,7 +2,8 @@
 // knitout and a preview; a bad job file fails with the key it got wrong; with a knitting
 // machine that takes lace (the AYAB emulator on a pseudo-terminal), the chart is knitted with
 // the lace carriage pass by pass exactly as planned, and a chart the lace carriage cannot do
-// fails with the reason before anything is sent.
+// fails with the reason before anything is sent. A missing start chart or a job too big to run
+// fails naming the job file, line and key.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -160,4 +161,28 @@ TEST(E2ELace, AChartTheLaceCarriageCannotDoFailsWithTheReasonAndNothingIsSent) {
   const json report = json::parse(slurp(done / "report.json"));
   EXPECT_FALSE(report["machine"]["lace_carriage"].get<bool>());
   EXPECT_GE(report["machine"]["problems"].size(), 2u) << report["machine"].dump(2);
+}
+
+TEST(E2ELace, AJobFileWhoseStartChartIsMissingOrTooBigFailsNamingTheFileLineAndKey) {
+  TempDir tmp;
+  DaemonProcess daemon(tmp.path());
+  daemon.start();
+  const fs::path incoming = daemon.spool() / "incoming";
+  atelier::test::write_file(tmp.path() / "missing.toml",
+                            "kind = \"lace\"\npopulation = 4\nstart_chart = \"" + (tmp.path() / "none.json").string() + "\"\n");
+  atelier::test::drop_file(tmp.path() / "missing.toml", incoming / "missing.toml");
+  atelier::test::write_file(tmp.path() / "huge.toml", "population = 100000\ngenerations = 1000\n");
+  atelier::test::drop_file(tmp.path() / "huge.toml", daemon.incoming("lace") / "huge.toml");
+
+  ASSERT_TRUE(wait_state(daemon, "missing.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
+  const std::string missing = job_named(daemon, "missing.toml")["reason"];
+  EXPECT_NE(missing.find("missing.toml:3: key 'start_chart': " + (tmp.path() / "none.json").string() +
+                         ": no such file"),
+            std::string::npos)
+      << missing;
+  // Refused before any memory is taken or any generation runs.
+  ASSERT_TRUE(wait_state(daemon, "huge.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
+  const std::string huge = job_named(daemon, "huge.toml")["reason"];
+  EXPECT_NE(huge.find("huge.toml:2: key 'generations': 1000 generations x population 100000"), std::string::npos)
+      << huge;
 }
