@@ -204,9 +204,15 @@ void check_start_feasible(const LaceChartFile& start, const lace::EvolveParams& 
   if (e.constraints.width_excess > 0)
     broken.push_back("a row wider or narrower than width_tolerance = " + std::to_string(ep.width_tolerance) +
                      " allows");
-  if (ep.extra_violations) {
-    const ayab::LacePlanResult plan = ayab::plan_lace(start.chart, start.cast_on, p.repeats_wide, 1, {});
-    if (!plan.problems.empty()) broken.push_back("the lace carriage cannot knit it (" + plan.problems.front() + ")");
+  // The evolution's own verdict (rows the carriage cannot do; the swatch's width is only
+  // reported), with the first problem for the message.
+  if (ep.extra_violations && ep.extra_violations(start.chart, start.cast_on) > 0) {
+    std::string first;
+    for (std::size_t r = 0; r < start.chart.rows.size() && first.empty(); ++r) {
+      const lace::LaceRowSchedule row = lace::schedule_lace_row(start.chart.rows[r], 1, static_cast<int>(r));
+      if (!row.problems.empty()) first = " (" + row.problems.front() + ")";
+    }
+    broken.push_back("the lace carriage cannot knit it" + first);
   }
   if (broken.empty()) return;
   std::string list;

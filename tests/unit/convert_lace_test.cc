@@ -225,6 +225,12 @@ TEST_F(ConvertLaceTest, AnInfeasibleStartChartWithNoGenerationsSaysWhatItBreaks)
               HasSubstr(":3: key 'start_chart': inline rows: with generations = 0 the result is this chart, but "
                         "it breaks the constraints: the lace carriage cannot knit it (row 1 (RS), stitch 3 (k2tog)"));
   EXPECT_FALSE(fs::exists(dir_ / "out" / "chart.json"));
+
+  // As in the evolution, a swatch wider than the machine's bed is reported, not refused.
+  const ConvertResult wide = run_merged("generations = 0\nlace_carriage = true\nrepeats_wide = 50\n"
+                                        "start_chart = [\"k1, k2tog, yo, k2\"]\n");
+  EXPECT_FALSE(wide.report["machine"]["lace_carriage"].get<bool>());
+  EXPECT_THAT(wide.report["machine"]["problems"][0].get<std::string>(), HasSubstr("250 stitches wide"));
 }
 
 TEST_F(ConvertLaceTest, TheReportListsTheFirstHundredCarriageProblemsAndCountsThemAll) {
