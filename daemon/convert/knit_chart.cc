@@ -7,6 +7,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "daemon/convert/chart_text.h"
+
 namespace atelier {
 namespace {
 
@@ -31,17 +33,6 @@ void set_rgb(cairo_t* cr, const Rgb& c) {
   cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0);
 }
 
-void text(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold,
-          double align = 0.0) {  // align: 0 left, 0.5 centre, 1 right of x
-  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
-                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
-  cairo_text_extents_t ext;
-  cairo_text_extents(cr, s.c_str(), &ext);
-  cairo_move_to(cr, x - align * ext.x_advance, y);
-  cairo_show_text(cr, s.c_str());
-}
-
 void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Tile& t,
                int page, int pages) {
   const int rows = grid.rows, width = grid.cols;
@@ -49,14 +40,14 @@ void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Ti
 
   cairo_set_source_rgb(cr, 0, 0, 0);
   double y = kMargin + 5 * kMm;
-  text(cr, kMargin, y, info.title + " - Fair Isle chart", 13, true);
+  chart_text(cr, kMargin, y, info.title + " - Fair Isle chart", 13, true);
   y += 5.5 * kMm;
-  text(cr, kMargin, y,
+  chart_text(cr, kMargin, y,
        std::to_string(width) + " stitches x " + std::to_string(rows) + " rows   max float " +
            std::to_string(info.max_float) + "   solver " + info.solver,
        9, false);
   y += 4.5 * kMm;
-  text(cr, kMargin, y,
+  chart_text(cr, kMargin, y,
        "Page " + std::to_string(page) + " of " + std::to_string(pages) + ": rows " +
            std::to_string(t.row0) + "-" + std::to_string(t.row1) + ", stitches " +
            std::to_string(t.stitch0) + "-" + std::to_string(t.stitch1) +
@@ -73,7 +64,7 @@ void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Ti
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 0.5);
     cairo_stroke(cr);
-    text(cr, x + 5.5 * kMm, y + 3.2 * kMm, std::string(labels[i]) + " " + info.color_names[i],
+    chart_text(cr, x + 5.5 * kMm, y + 3.2 * kMm, std::string(labels[i]) + " " + info.color_names[i],
          8, false);
     x += 80 * kMm;
   }
@@ -125,14 +116,14 @@ void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Ti
     int n = t.row1 - r;
     double cy = gy + r * kCell + kCell * 0.7;
     bool bold = n % 10 == 0;
-    if (n % 2 == 1) text(cr, gx + ncols * kCell + 1.5 * kMm, cy, std::to_string(n), 6.5, bold);
-    else text(cr, gx - 1.5 * kMm, cy, std::to_string(n), 6.5, bold, 1.0);
+    if (n % 2 == 1) chart_text(cr, gx + ncols * kCell + 1.5 * kMm, cy, std::to_string(n), 6.5, bold);
+    else chart_text(cr, gx - 1.5 * kMm, cy, std::to_string(n), 6.5, bold, 1.0);
   }
   // Stitch numbers: the first of the page and every 5th.
   for (int k = 0; k < ncols; ++k) {
     int s = t.stitch1 - k;
     if (s % 5 != 0 && s != t.stitch0) continue;
-    text(cr, gx + (k + 0.5) * kCell, gy + nrows * kCell + 4 * kMm, std::to_string(s), 6,
+    chart_text(cr, gx + (k + 0.5) * kCell, gy + nrows * kCell + 4 * kMm, std::to_string(s), 6,
          s % 10 == 0, 0.5);
   }
 }

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "daemon/convert/chart_text.h"
+
 namespace atelier {
 namespace {
 
@@ -56,17 +58,6 @@ int widest(const Chart& chart) {
   std::size_t w = 0;
   for (const lace::Row& r : chart.rows) w = std::max(w, r.size());
   return static_cast<int>(w);
-}
-
-void text(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold,
-          double align = 0.0) {  // align: 0 left, 0.5 centre, 1 right of x
-  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
-                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
-  cairo_text_extents_t ext;
-  cairo_text_extents(cr, s.c_str(), &ext);
-  cairo_move_to(cr, x - align * ext.x_advance, y);
-  cairo_show_text(cr, s.c_str());
 }
 
 // The symbol inside the cell whose top-left corner is (x, y).
@@ -114,9 +105,9 @@ void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo
   cairo_paint(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
   double y = kMargin + 5 * kMm;
-  text(cr, kMargin, y, (info.title.empty() ? std::string("Lace") : info.title) + " - lace chart", 13, true);
+  chart_text(cr, kMargin, y, (info.title.empty() ? std::string("Lace") : info.title) + " - lace chart", 13, true);
   y += 5.5 * kMm;
-  text(cr, kMargin, y,
+  chart_text(cr, kMargin, y,
        "Multiple of " + std::to_string(cast_on) + " sts; " + std::to_string(2 * rs_rows) +
            " rows (right-side rows 1-" + std::to_string(2 * rs_rows - 1) +
            " shown; all wrong-side rows purl)",
@@ -128,7 +119,7 @@ void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo
             std::to_string(2 * t.row0 + 1) + "-" + std::to_string(2 * t.row1 + 1) + ", stitches " +
             std::to_string(t.col0 + 1) + "-" + std::to_string(t.col1 + 1) + ". " + where;
   }
-  text(cr, kMargin, y, where, 8, false);
+  chart_text(cr, kMargin, y, where, 8, false);
   y += 3 * kMm;
   // Legend: the symbol in a cell, its abbreviation and what to do on a right-side row.
   const double lc = 4.5 * kMm;
@@ -139,8 +130,8 @@ void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo
     cairo_stroke(cr);
     draw_symbol(cr, e.symbol, kMargin, y, lc);
     cairo_set_source_rgb(cr, 0, 0, 0);
-    text(cr, kMargin + lc + 2.5 * kMm, y + 3.3 * kMm, e.name, 9, true);
-    text(cr, kMargin + lc + 15 * kMm, y + 3.3 * kMm, e.meaning, 8.5, false);
+    chart_text(cr, kMargin + lc + 2.5 * kMm, y + 3.3 * kMm, e.name, 9, true);
+    chart_text(cr, kMargin + lc + 15 * kMm, y + 3.3 * kMm, e.meaning, 8.5, false);
     y += kLegendLine;
   }
 
@@ -178,13 +169,13 @@ void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo
   cairo_set_source_rgb(cr, 0, 0, 0);
   const double font = std::clamp(0.42 * c, 5.0, 8.0);
   for (int r = t.row0; r <= t.row1; ++r) {
-    text(cr, gx + ncols * c + 1.5 * kMm, gy + (t.row1 - r) * c + 0.5 * c + 0.35 * font,
+    chart_text(cr, gx + ncols * c + 1.5 * kMm, gy + (t.row1 - r) * c + 0.5 * c + 0.35 * font,
          std::to_string(2 * r + 1), font, false);
   }
   for (int k = t.col0; k <= t.col1; ++k) {
     const int s = k + 1;
     if (c < 5 * kMm && s % 5 != 0 && s != t.col0 + 1) continue;  // small cells: every 5th
-    text(cr, gx + (t.col1 - k + 0.5) * c, gy + nrows * c + 4 * kMm, std::to_string(s), font,
+    chart_text(cr, gx + (t.col1 - k + 0.5) * c, gy + nrows * c + 4 * kMm, std::to_string(s), font,
          false, 0.5);
   }
 }

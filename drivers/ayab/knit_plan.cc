@@ -7,20 +7,7 @@
 // Classic ribber with more than two colours (every other pass blank) is out for the same reason.
 #include "drivers/ayab/knit_plan.h"
 
-#include <cctype>
-
 namespace atelier::ayab {
-namespace {
-
-// "kh930" -> "KH-930", as printed on the machine.
-std::string display_name(MachineType m) {
-  std::string n = machine_name(m);
-  std::string out;
-  for (char c : n.substr(0, 2)) out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
-  return out + "-" + n.substr(2);
-}
-
-}  // namespace
 
 std::optional<KnitMode> knit_mode_from_name(const std::string& name) {
   if (name == "single-bed") return KnitMode::single_bed;
@@ -43,7 +30,7 @@ KnitPlan plan_knitting(const cv::Mat& pattern, const PlanParams& params) {
     throw PlanError("the knit pattern must be a non-empty one-channel 8-bit image");
   const int needles = needle_count(params.machine);
   const int width = pattern.cols;
-  const std::string machine = display_name(params.machine);
+  const std::string machine = machine_display_name(params.machine);
   if (width > needles)
     throw PlanError("pattern is " + std::to_string(width) + " stitches wide but the " + machine + " has " +
                     std::to_string(needles) + " needles");

@@ -1,19 +1,6 @@
 #include "drivers/ayab/lace_plan.h"
 
-#include <cctype>
-
 namespace atelier::ayab {
-namespace {
-
-// "kh930" -> "KH-930", as printed on the machine.
-std::string display_name(MachineType m) {
-  std::string n = machine_name(m);
-  std::string out;
-  for (char c : n.substr(0, 2)) out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
-  return out + "-" + n.substr(2);
-}
-
-}  // namespace
 
 LacePlanResult plan_lace(const lace::Chart& chart, int cast_on, int repeats_wide, int repeats_high,
                          const PlanParams& params, const lace::CarriageLimits& limits) {
@@ -29,7 +16,7 @@ LacePlanResult plan_lace(const lace::Chart& chart, int cast_on, int repeats_wide
   }
   const int needles = needle_count(params.machine);
   const int width = cast_on * repeats_wide;
-  const std::string machine = display_name(params.machine);
+  const std::string machine = machine_display_name(params.machine);
   if (width > needles) {
     out.problems.push_back("the lace is " + std::to_string(width) + " stitches wide (" + std::to_string(repeats_wide) +
                            " repeats of " + std::to_string(cast_on) + ") but the " + machine + " has " +

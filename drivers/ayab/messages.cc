@@ -1,5 +1,6 @@
 #include "drivers/ayab/messages.h"
 
+#include <cctype>
 #include <cstdio>
 
 #include "drivers/ayab/crc8.h"
@@ -42,6 +43,13 @@ std::string machine_name(MachineType m) {
     case MachineType::kh270: return "kh270";
   }
   return "unknown";
+}
+
+std::string machine_display_name(MachineType m) {
+  const std::string n = machine_name(m);
+  std::string out;
+  for (char c : n.substr(0, 2)) out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
+  return out + "-" + n.substr(2);
 }
 
 std::string error_text(uint8_t code) {

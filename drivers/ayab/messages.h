@@ -33,6 +33,8 @@ int line_bytes(MachineType m);          // 25, 25, 14
 int end_of_line_offset(MachineType m);  // needles past the working range before reqLine: 12 / 6
 std::optional<MachineType> machine_from_name(const std::string& name);  // "kh910", "kh930", "kh270"
 std::string machine_name(MachineType m);
+// "KH-930": as printed on the machine, for messages to users.
+std::string machine_display_name(MachineType m);
 
 enum class FsmState : uint8_t { wait_for_machine = 0, init = 1, ready = 2, knit = 3, test = 4, error = 5 };
 enum class Carriage : uint8_t { knit = 0, lace = 1, garter = 2, none = 0xFF };

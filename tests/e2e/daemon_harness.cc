@@ -53,6 +53,8 @@ std::string slurp(const fs::path& file) {
 }
 }  // namespace
 
+std::string read_file(const fs::path& file) { return slurp(file); }
+
 CommandResult run_command(const std::vector<std::string>& argv) {
   TempDir tmp;
   fs::path out = tmp.path() / "out", err = tmp.path() / "err";
@@ -197,6 +199,20 @@ bool DaemonProcess::wait_for(const std::function<bool()>& done, std::chrono::mil
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return done();
+}
+
+nlohmann::json DaemonProcess::job_named(const std::string& name) {
+  for (const auto& j : jobs())
+    if (j["name"] == name) return j;
+  return nullptr;
+}
+
+bool DaemonProcess::wait_job_state(const std::string& name, const std::string& state,
+                                   std::chrono::milliseconds timeout) {
+  return wait_for([&] {
+    const nlohmann::json j = job_named(name);
+    return !j.is_null() && j["state"] == state;
+  }, timeout);
 }
 
 bool DaemonProcess::wait_settled(size_t count, std::chrono::milliseconds timeout) {

@@ -31,6 +31,7 @@ std::filesystem::path test_image(const std::string& name);  // tests/data/<name>
 // same folder, then renamed into place.
 void drop_file(const std::filesystem::path& src, const std::filesystem::path& dst);
 void write_file(const std::filesystem::path& file, const std::string& bytes);
+std::string read_file(const std::filesystem::path& file);  // "" when it cannot be read
 
 struct CommandResult {
   int exit_code;
@@ -79,6 +80,11 @@ class DaemonProcess {
   // Polls `done` every 50 ms until it returns true or `timeout` passes.
   bool wait_for(const std::function<bool()>& done,
                 std::chrono::milliseconds timeout = std::chrono::seconds(120));
+  // The newest job named `name` (its file name), or null.
+  nlohmann::json job_named(const std::string& name);
+  // Waits until the job named `name` exists and is in `state`.
+  bool wait_job_state(const std::string& name, const std::string& state,
+                      std::chrono::milliseconds timeout = std::chrono::seconds(90));
   // Waits until `count` jobs exist and none is queued or converting.
   bool wait_settled(size_t count, std::chrono::milliseconds timeout = std::chrono::seconds(180));
 

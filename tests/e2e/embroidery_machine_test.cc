@@ -4,7 +4,6 @@
 // its design.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -13,31 +12,10 @@
 
 namespace fs = std::filesystem;
 using atelier::test::DaemonProcess;
+using atelier::test::read_file;
 using atelier::test::TempDir;
 using nlohmann::json;
 namespace readers = atelier::embroidery::test;
-
-namespace {
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-json job_named(DaemonProcess& d, const std::string& name) {
-  for (const auto& j : d.jobs())
-    if (j["name"] == name) return j;
-  return nullptr;
-}
-
-bool wait_state(DaemonProcess& d, const std::string& name, const std::string& state) {
-  return d.wait_for([&] {
-    const json j = job_named(d, name);
-    return !j.is_null() && j["state"] == state;
-  }, std::chrono::seconds(90));
-}
-
-}  // namespace
 
 TEST(E2EEmbroidery, ADroppedImageBecomesStitchFilesInTheMachinesFolder) {
   TempDir tmp;
@@ -48,20 +26,20 @@ TEST(E2EEmbroidery, ADroppedImageBecomesStitchFilesInTheMachinesFolder) {
   daemon.start();
   atelier::test::drop_file(atelier::test::test_image("HappyFish.jpg"),
                            daemon.incoming("embroidery") / "HappyFish.jpg");
-  ASSERT_TRUE(wait_state(daemon, "HappyFish.jpg", "completed")) << daemon.jobs().dump(2) << daemon.log();
-  const json job = job_named(daemon, "HappyFish.jpg");
+  ASSERT_TRUE(daemon.wait_job_state("HappyFish.jpg", "completed")) << daemon.jobs().dump(2) << daemon.log();
+  const json job = daemon.job_named("HappyFish.jpg");
   const std::string id = std::to_string(job["id"].get<int64_t>());
   const fs::path done = daemon.spool() / "done" / id;
-  const json report = json::parse(slurp(done / "report.json"));
+  const json report = json::parse(read_file(done / "report.json"));
 
   // The machine's folder holds exactly the two files, whole, under the job's name.
   const fs::path dst = stick / (id + "-HappyFish.dst"), exp = stick / (id + "-HappyFish.exp");
-  EXPECT_EQ(slurp(dst), slurp(done / "design.dst"));
-  EXPECT_EQ(slurp(exp), slurp(done / "design.exp"));
+  EXPECT_EQ(read_file(dst), read_file(done / "design.dst"));
+  EXPECT_EQ(read_file(exp), read_file(done / "design.exp"));
   EXPECT_EQ(std::distance(fs::directory_iterator(stick), fs::directory_iterator()), 2);
 
   // The DST decodes: every record in range, the header counts the body, the design is 80 mm.
-  const readers::DstFile f = readers::read_dst(slurp(dst));
+  const readers::DstFile f = readers::read_dst(read_file(dst));
   EXPECT_TRUE(f.errors.empty()) << f.errors.front();
   ASSERT_FALSE(f.records.empty());
   EXPECT_EQ(f.records.back().type, readers::Ev::end);
@@ -107,8 +85,8 @@ TEST(E2EEmbroidery, ADroppedImageBecomesStitchFilesInTheMachinesFolder) {
   // The stick is pulled: the next job fails with the reason and keeps its design.
   fs::remove_all(stick);
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), daemon.incoming("embroidery") / "pic1.png");
-  ASSERT_TRUE(wait_state(daemon, "pic1.png", "failed")) << daemon.jobs().dump(2);
-  const json failed = job_named(daemon, "pic1.png");
+  ASSERT_TRUE(daemon.wait_job_state("pic1.png", "failed")) << daemon.jobs().dump(2);
+  const json failed = daemon.job_named("pic1.png");
   EXPECT_NE(failed["reason"].get<std::string>().find("missing"), std::string::npos) << failed.dump();
   EXPECT_TRUE(fs::exists(daemon.spool() / "done" / std::to_string(failed["id"].get<int64_t>()) / "design.dst"));
 }

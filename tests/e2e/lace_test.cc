@@ -16,28 +16,11 @@
 namespace fs = std::filesystem;
 using atelier::test::BackgroundProcess;
 using atelier::test::DaemonProcess;
+using atelier::test::read_file;
 using atelier::test::TempDir;
 using nlohmann::json;
 
 namespace {
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-json job_named(DaemonProcess& d, const std::string& name) {
-  for (const auto& j : d.jobs())
-    if (j["name"] == name) return j;
-  return nullptr;
-}
-
-bool wait_state(DaemonProcess& d, const std::string& name, const std::string& state) {
-  return d.wait_for([&] {
-    const json j = job_named(d, name);
-    return !j.is_null() && j["state"] == state;
-  }, std::chrono::seconds(90));
-}
 
 const std::string kSmall = "population = 80\ngenerations = 20\nwidth = 10\nrows = 6\n";
 
@@ -57,22 +40,22 @@ TEST(E2ELace, AJobFileInTheHotFolderBecomesAChartAndABadOneNamesItsKey) {
   atelier::test::drop_file(tmp.path() / "typo.toml", incoming / "typo.toml");
 
   for (const char* name : {"swatch.toml", "scarf.v2.toml"}) {
-    ASSERT_TRUE(wait_state(daemon, name, "completed")) << daemon.jobs().dump(2) << daemon.log();
-    const json job = job_named(daemon, name);
+    ASSERT_TRUE(daemon.wait_job_state(name, "completed")) << daemon.jobs().dump(2) << daemon.log();
+    const json job = daemon.job_named(name);
     EXPECT_EQ(job["kind"], "lace");
     const fs::path done = daemon.spool() / "done" / std::to_string(job["id"].get<int64_t>());
     for (const char* f : {"chart.json", "chart.svg", "chart.pdf", "instructions.txt", "lace.k",
                           "preview.png", "report.json", name})
       EXPECT_TRUE(fs::exists(done / f)) << name << ": " << f;
     const atelier::LaceChartFile chart =
-        atelier::lace_chart_from_json(json::parse(slurp(done / "chart.json")), "chart.json");
+        atelier::lace_chart_from_json(json::parse(read_file(done / "chart.json")), "chart.json");
     EXPECT_EQ(chart.cast_on, 10);
     EXPECT_TRUE(atelier::lace::yarn_over_balance(chart.chart));
-    EXPECT_TRUE(json::parse(slurp(done / "report.json"))["constraints"]["all_satisfied"].get<bool>());
+    EXPECT_TRUE(json::parse(read_file(done / "report.json"))["constraints"]["all_satisfied"].get<bool>());
   }
-  ASSERT_TRUE(wait_state(daemon, "typo.toml", "failed")) << daemon.jobs().dump(2);
-  EXPECT_NE(job_named(daemon, "typo.toml")["reason"].get<std::string>().find("widht"), std::string::npos)
-      << job_named(daemon, "typo.toml").dump();
+  ASSERT_TRUE(daemon.wait_job_state("typo.toml", "failed")) << daemon.jobs().dump(2);
+  EXPECT_NE(daemon.job_named("typo.toml")["reason"].get<std::string>().find("widht"), std::string::npos)
+      << daemon.job_named("typo.toml").dump();
 }
 
 namespace {
@@ -114,12 +97,12 @@ struct KnitterRig {
 TEST(E2ELace, TheKnittingMachineKnitsTheChartWithTheLaceCarriagePassByPass) {
   KnitterRig rig("lace_carriage = true\nrepeats_wide = 2\nrepeats_high = 1\n");
   rig.drop_job("eyelets.toml", kSmall + "seed = 3\n");
-  ASSERT_TRUE(wait_state(*rig.daemon, "eyelets.toml", "completed")) << rig.daemon->jobs().dump(2) << rig.daemon->log();
-  const json job = job_named(*rig.daemon, "eyelets.toml");
+  ASSERT_TRUE(rig.daemon->wait_job_state("eyelets.toml", "completed")) << rig.daemon->jobs().dump(2) << rig.daemon->log();
+  const json job = rig.daemon->job_named("eyelets.toml");
   EXPECT_EQ(job["device"], "knitter");
   const fs::path done = job["output_dir"].get<std::string>();
   const atelier::LaceChartFile chart =
-      atelier::lace_chart_from_json(json::parse(slurp(done / "chart.json")), "chart.json");
+      atelier::lace_chart_from_json(json::parse(read_file(done / "chart.json")), "chart.json");
 
   // What the needles did is what the lace plan says, pass by pass: lace-carriage transfers,
   // then two plain rows with the knit carriage, for every chart row.
@@ -129,7 +112,7 @@ TEST(E2ELace, TheKnittingMachineKnitsTheChartWithTheLaceCarriagePassByPass) {
   ASSERT_TRUE(plan.problems.empty()) << plan.problems.front();
   const std::vector<std::string> rows = rig.recorded();
   ASSERT_EQ(rows.size(), plan.plan->passes.size());
-  const json report = json::parse(slurp(done / "report.json"));
+  const json report = json::parse(read_file(done / "report.json"));
   EXPECT_EQ(static_cast<int>(rows.size()),
             report["machine"]["lace_passes"].get<int>() + report["machine"]["knit_passes"].get<int>());
   EXPECT_EQ(report["machine"]["knit_passes"].get<int>(), 2 * static_cast<int>(chart.chart.rows.size()));
@@ -152,13 +135,13 @@ TEST(E2ELace, AChartTheLaceCarriageCannotDoFailsWithTheReasonAndNothingIsSent) {
   KnitterRig rig("repeats_wide = 1\nrepeats_high = 1\n");
   // "yo, k2tog": the bottom stitch would have to slide under the top one; and row 3 widens.
   rig.drop_job("hand.toml", "generations = 0\npopulation = 4\nstart_chart = [\"k1, yo, k2tog, k1\", \"k1, yo, k3\", \"k2, k2tog, k1\"]\n");
-  ASSERT_TRUE(wait_state(*rig.daemon, "hand.toml", "failed")) << rig.daemon->jobs().dump(2) << rig.daemon->log();
-  const std::string reason = job_named(*rig.daemon, "hand.toml")["reason"];
+  ASSERT_TRUE(rig.daemon->wait_job_state("hand.toml", "failed")) << rig.daemon->jobs().dump(2) << rig.daemon->log();
+  const std::string reason = rig.daemon->job_named("hand.toml")["reason"];
   EXPECT_NE(reason.find("lace carriage"), std::string::npos) << reason;
   EXPECT_NE(reason.find("row 1"), std::string::npos) << reason;
   EXPECT_TRUE(rig.recorded().empty());
-  const fs::path done = job_named(*rig.daemon, "hand.toml")["output_dir"].get<std::string>();
-  const json report = json::parse(slurp(done / "report.json"));
+  const fs::path done = rig.daemon->job_named("hand.toml")["output_dir"].get<std::string>();
+  const json report = json::parse(read_file(done / "report.json"));
   EXPECT_FALSE(report["machine"]["lace_carriage"].get<bool>());
   EXPECT_GE(report["machine"]["problems"].size(), 2u) << report["machine"].dump(2);
 }
@@ -174,15 +157,15 @@ TEST(E2ELace, AJobFileWhoseStartChartIsMissingOrTooBigFailsNamingTheFileLineAndK
   atelier::test::write_file(tmp.path() / "huge.toml", "population = 100000\ngenerations = 1000\n");
   atelier::test::drop_file(tmp.path() / "huge.toml", daemon.incoming("lace") / "huge.toml");
 
-  ASSERT_TRUE(wait_state(daemon, "missing.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
-  const std::string missing = job_named(daemon, "missing.toml")["reason"];
+  ASSERT_TRUE(daemon.wait_job_state("missing.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
+  const std::string missing = daemon.job_named("missing.toml")["reason"];
   EXPECT_NE(missing.find("missing.toml:3: key 'start_chart': " + (tmp.path() / "none.json").string() +
                          ": no such file"),
             std::string::npos)
       << missing;
   // Refused before any memory is taken or any generation runs.
-  ASSERT_TRUE(wait_state(daemon, "huge.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
-  const std::string huge = job_named(daemon, "huge.toml")["reason"];
+  ASSERT_TRUE(daemon.wait_job_state("huge.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
+  const std::string huge = daemon.job_named("huge.toml")["reason"];
   EXPECT_NE(huge.find("huge.toml:2: key 'generations': 1000 generations x population 100000"), std::string::npos)
       << huge;
 }

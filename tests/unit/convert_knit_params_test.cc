@@ -103,7 +103,8 @@ TEST(ConvertKnitParams, ValidateKindParamsUsesTheKnitReader) {
   EXPECT_THROW(validate_kind_params("knit", parse("colour = 3\n"), "job.toml"), ParamError);
   EXPECT_THROW(validate_kind_params("quilt", toml::table{}, "job.toml"), ParamError);
   EXPECT_TRUE(is_known_kind("knit"));
-  EXPECT_FALSE(is_known_kind("lace"));
+  EXPECT_TRUE(is_known_kind("lace"));
+  EXPECT_FALSE(is_known_kind("quilt"));
 }
 
 TEST(ConvertKnitParams, RelaxMaskResolvesBesideTheInput) {
