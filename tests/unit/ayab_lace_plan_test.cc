@@ -12,7 +12,6 @@
 #include <chrono>
 #include <fstream>
 #include <functional>
-#include <initializer_list>
 #include <random>
 #include <string>
 #include <thread>
@@ -26,6 +25,7 @@
 #include "drivers/ayab/lace_plan.h"
 #include "drivers/serial_transport.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier::ayab {
 namespace {
@@ -33,40 +33,7 @@ namespace {
 using lace::Chart;
 using lace::Row;
 using lace::Symbol;
-
-Row row(std::initializer_list<const char*> cells) {
-  Row r;
-  for (const char* c : cells) r.push_back(lace::parse_symbol(c));
-  return r;
-}
-Row knit(int n) { return Row(static_cast<size_t>(n), Symbol::k); }
-
-// What a hand knitter makes: per stitch of the row, the stitches of the row below it is worked
-// through, bottom first (k2tog: first under second; ssk: second under first; sk2p: the middle,
-// then the third, the first on top).
-using Fabric = std::vector<std::vector<std::vector<int>>>;  // row -> stitch -> stack
-std::vector<std::vector<int>> expected_row(const Row& r, int times) {
-  std::vector<std::vector<int>> out;
-  int s = 0;
-  for (int t = 0; t < times; ++t) {
-    for (Symbol sym : r) {
-      switch (sym) {
-        case Symbol::yo: out.push_back({}); break;
-        case Symbol::k: out.push_back({s}); s += 1; break;
-        case Symbol::k2tog: out.push_back({s, s + 1}); s += 2; break;
-        case Symbol::ssk: out.push_back({s + 1, s}); s += 2; break;
-        case Symbol::sk2p: out.push_back({s + 1, s + 2, s}); s += 3; break;
-      }
-    }
-  }
-  return out;
-}
-Fabric expected_fabric(const Chart& c, int repeats_wide, int repeats_high) {
-  Fabric f;
-  for (int v = 0; v < repeats_high; ++v)
-    for (const Row& r : c.rows) f.push_back(expected_row(r, repeats_wide));
-  return f;
-}
+using namespace lace::test;  // row(), knit(), expected_fabric() of lace_test_charts.h
 
 // Runs the plan on a simulated bed. Fails the test (and returns what it has) on any breach of
 // the carriage rules.
@@ -356,6 +323,38 @@ struct LaceJobOnDevice {
   }
 };
 
+// The knitting-machine emulator (a KH930) on a link in its own temporary folder, recording the
+// needles of every pass it is sent; ready (its link there) once constructed, or after 5 s.
+// `row_ms`: how long it takes per pass; `more`: further options (faults).
+struct RecordingEmulator {
+  test::TempDir dir;
+  const std::filesystem::path link = dir.path() / "knitter", record = dir.path() / "record.txt";
+  test::BackgroundProcess process;
+
+  explicit RecordingEmulator(int row_ms, const std::vector<std::string>& more = {})
+      : process(command(row_ms, more), dir.path() / "emu.log") {
+    for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // The passes recorded so far, one needle string each (as pass_lines() writes them).
+  std::vector<std::string> recorded() const {
+    std::vector<std::string> got;
+    std::ifstream in(record);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) got.push_back(line);
+    return got;
+  }
+
+ private:
+  std::vector<std::string> command(int row_ms, const std::vector<std::string>& more) const {
+    std::vector<std::string> argv{test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+                                  link.string(), "--record", record.string(), "--row-ms", std::to_string(row_ms),
+                                  "--boot-ms", "50"};
+    argv.insert(argv.end(), more.begin(), more.end());
+    return argv;
+  }
+};
+
 // Needle strings (working range, leftmost first) of the plan's passes from `from_pass` on: what
 // the emulator records.
 std::vector<std::string> pass_lines(const KnitPlan& plan, size_t from_pass = 0) {
@@ -381,16 +380,10 @@ TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens)
 }
 
 TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
-  test::TempDir emu_dir;
-  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
-  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
-                                    link.string(), "--record", record.string(), "--row-ms", "2", "--boot-ms", "50"},
-                                   emu_dir.path() / "emu.log");
-  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const RecordingEmulator emulator(2);
   const Chart c{{row({"k", "yo", "sk2p", "yo", "k"}), knit(5), row({"yo", "k", "ssk", "k", "k"}), knit(5)}};
   LaceJobOnDevice rig(c, 5, 4, 2);
-  const Job job = rig.run(link.string());
+  const Job job = rig.run(emulator.link.string());
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(job.progress_done, 8);  // chart rows, repeats_high included
   EXPECT_EQ(job.progress_total, 8);
@@ -398,85 +391,51 @@ TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
 
   const auto plan = plan_lace(c, 5, 4, 2, {});
   ASSERT_TRUE(plan.plan);
-  std::vector<std::string> got;
-  std::ifstream in(record);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) got.push_back(line);
-  EXPECT_EQ(got, pass_lines(*plan.plan));
+  EXPECT_EQ(emulator.recorded(), pass_lines(*plan.plan));
 }
 
 TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
-  test::TempDir emu_dir;
-  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
-  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
-                                    link.string(), "--record", record.string(), "--row-ms", "2", "--boot-ms", "50"},
-                                   emu_dir.path() / "emu.log");
-  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const RecordingEmulator emulator(2);
   // Rows with different numbers of lace passes, so rows and passes do not line up.
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4), row({"k2tog", "yo", "k", "k"})}};
   LaceJobOnDevice rig(c, 4, 3, 2, JobState::interrupted);
-  const Job job = rig.run(link.string(), 4);
+  const Job job = rig.run(emulator.link.string(), 4);
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(job.progress_done, 6);
   const auto plan = plan_lace(c, 4, 3, 2, {});
   ASSERT_TRUE(plan.plan);
   size_t first = 0;  // the first pass of chart row 4 (0-based 3)
   while (plan.plan->pattern_row[first] < 3) ++first;
-  std::vector<std::string> got;
-  std::ifstream in(record);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) got.push_back(line);
-  EXPECT_EQ(got, pass_lines(*plan.plan, first));
+  EXPECT_EQ(emulator.recorded(), pass_lines(*plan.plan, first));
 }
 
 TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
-  test::TempDir emu_dir;
-  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
   // Slow passes, so the cancel surely comes in the middle of chart row 1.
-  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
-                                    link.string(), "--record", record.string(), "--row-ms", "150", "--boot-ms", "50"},
-                                   emu_dir.path() / "emu.log");
-  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const RecordingEmulator emulator(150);
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
   const auto plan = plan_lace(c, 4, 3, 2, {});
   ASSERT_TRUE(plan.plan);
   size_t row1 = 0;  // passes of chart row 1: lace-carriage transfers, then the two knit rows
   while (plan.plan->pattern_row[row1] == 0) ++row1;
   ASSERT_GE(row1, 5u);
-  auto recorded = [&] {
-    std::vector<std::string> got;
-    std::ifstream in(record);
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty()) got.push_back(line);
-    return got;
-  };
   LaceJobOnDevice rig(c, 4, 3, 2);
   // Canceled once the first transfer pass is done: stopping there would leave the stitches
   // moved but unknitted (and a resume from row 1 would move them again).
-  const Job job = rig.run(link.string(), 0, [&] { return !recorded().empty(); });
+  const Job job = rig.run(emulator.link.string(), 0, [&] { return !emulator.recorded().empty(); });
   EXPECT_EQ(job.state, JobState::canceled) << job.reason;
   EXPECT_EQ(job.progress_done, 1);
   std::vector<std::string> row_one = pass_lines(*plan.plan, 0);
   row_one.resize(row1);
-  EXPECT_EQ(recorded(), row_one) << "all of chart row 1, nothing of row 2"
+  EXPECT_EQ(emulator.recorded(), row_one) << "all of chart row 1, nothing of row 2"
       << " (row 1 has " << row1 << " passes)";
 }
 
 TEST(AyabLacePlanOnTheMachine, ALinkLostInTheMiddleOfAChartRowSaysSoWithTheResumeHint) {
-  test::TempDir emu_dir;
-  const auto link = emu_dir.path() / "knitter", record = emu_dir.path() / "record.txt";
   // Unplugged after the second pass of chart row 1 (8 passes: transfers, then two knit rows).
-  test::BackgroundProcess emulator({test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
-                                    link.string(), "--record", record.string(), "--row-ms", "5", "--boot-ms", "50",
-                                    "--fault", "drop-after-row=2:60000"},
-                                   emu_dir.path() / "emu.log");
-  for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const RecordingEmulator emulator(5, {"--fault", "drop-after-row=2:60000"});
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
   LaceJobOnDevice rig(c, 4, 3, 2);
-  const Job job = rig.run(link.string());
+  const Job job = rig.run(emulator.link.string());
   ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
   EXPECT_EQ(job.progress_done, 0);
   // Resuming chart row 1 as planned would move the moved stitches again: the reason says so.

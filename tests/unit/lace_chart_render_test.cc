@@ -4,7 +4,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <initializer_list>
 #include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
@@ -15,6 +14,7 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
 #include "daemon/convert/lace_chart.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier {
 namespace {
@@ -22,14 +22,7 @@ namespace {
 using lace::Chart;
 using lace::Row;
 using lace::Symbol;
-
-Row row(std::initializer_list<const char*> cells) {
-  Row r;
-  for (const char* c : cells) r.push_back(lace::parse_symbol(c));
-  return r;
-}
-
-Row knit(int n) { return Row(static_cast<std::size_t>(n), Symbol::k); }
+using namespace lace::test;  // row(), knit() and the charts of lace_test_charts.h
 
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);

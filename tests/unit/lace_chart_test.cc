@@ -3,7 +3,6 @@
 // full-depth forest decodes to a chart a knitter can work.
 #include <gtest/gtest.h>
 
-#include <initializer_list>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -11,46 +10,17 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/stitch_tree.h"
 #include "algorithms/lace/symbols.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {
 
-// Rows written as a knitter reads them ("k2, yo, k2tog" -> k, k, yo, k2tog), repeated `times`.
-Row row(std::initializer_list<const char*> cells, int times = 1) {
-  Row r;
-  for (int t = 0; t < times; ++t) {
-    for (const char* c : cells) r.push_back(parse_symbol(c));
-  }
-  return r;
-}
-
-Row knit(int n) { return Row(static_cast<std::size_t>(n), Symbol::k); }
+using namespace test;  // row(), knit() and the charts of lace_test_charts.h
 
 // Staggered eyelets over 8 stitches: plain rows between rows of "k2, yo, k2tog" and
 // "yo, k2tog, k2", two repeats each.
 Chart eyelet_chart() {
   return Chart{{knit(8), row({"k", "k", "yo", "k2tog"}, 2), knit(8), row({"yo", "k2tog", "k", "k"}, 2)}};
-}
-
-// Feather and fan (Old Shale) over 18 stitches: a plain row, then
-// "(k2tog) x3, (yo, k1) x6, (k2tog) x3".
-Chart feather_and_fan_chart() {
-  Row pattern = row({"k2tog", "k2tog", "k2tog"});
-  const Row fan = row({"yo", "k"}, 6);
-  pattern.insert(pattern.end(), fan.begin(), fan.end());
-  const Row tail = row({"k2tog", "k2tog", "k2tog"});
-  pattern.insert(pattern.end(), tail.begin(), tail.end());
-  return Chart{{knit(18), pattern}};
-}
-
-// Horseshoe lace over 10 stitches: yarn-overs walking in towards a central double decrease.
-Chart horseshoe_chart() {
-  return Chart{{
-      row({"yo", "k", "k", "k", "sk2p", "k", "k", "k", "yo", "k"}),
-      row({"k", "yo", "k", "k", "sk2p", "k", "k", "yo", "k", "k"}),
-      row({"k", "k", "yo", "k", "sk2p", "k", "yo", "k", "k", "k"}),
-      row({"k", "k", "k", "yo", "sk2p", "yo", "k", "k", "k", "k"}),
-  }};
 }
 
 TEST(LaceSymbols, ConsumesAndNamesAreThePapers) {

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <initializer_list>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -18,30 +17,12 @@
 #include "algorithms/lace/random_chart.h"
 #include "algorithms/lace/stitch_tree.h"
 #include "algorithms/lace/symbols.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {
 
-// Rows written as a knitter reads them ("k2, yo, k2tog" -> k, k, yo, k2tog), repeated `times`.
-Row row(std::initializer_list<const char*> cells, int times = 1) {
-  Row r;
-  for (int t = 0; t < times; ++t) {
-    for (const char* c : cells) r.push_back(parse_symbol(c));
-  }
-  return r;
-}
-
-Row knit(int n) { return Row(static_cast<std::size_t>(n), Symbol::k); }
-
-// Horseshoe lace over 10 stitches: yarn-overs walking in towards a central double decrease.
-Chart horseshoe_chart() {
-  return Chart{{
-      row({"yo", "k", "k", "k", "sk2p", "k", "k", "k", "yo", "k"}),
-      row({"k", "yo", "k", "k", "sk2p", "k", "k", "yo", "k", "k"}),
-      row({"k", "k", "yo", "k", "sk2p", "k", "yo", "k", "k", "k"}),
-      row({"k", "k", "k", "yo", "sk2p", "yo", "k", "k", "k", "k"}),
-  }};
-}
+using namespace test;  // row(), knit() and the charts of lace_test_charts.h
 
 int count(const Chart& chart, Symbol s) {
   int n = 0;

@@ -2,7 +2,6 @@
 // reader that takes the text back -- writing then reading gives the chart and cast-on back.
 #include <gtest/gtest.h>
 
-#include <initializer_list>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -12,25 +11,12 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/instructions.h"
 #include "algorithms/lace/symbols.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {
 
-Row row(std::initializer_list<const char*> cells, int times = 1) {
-  Row r;
-  for (int t = 0; t < times; ++t) {
-    for (const char* c : cells) r.push_back(parse_symbol(c));
-  }
-  return r;
-}
-
-Row knit(int n) { return Row(static_cast<std::size_t>(n), Symbol::k); }
-
-Row cat(std::initializer_list<Row> parts) {
-  Row r;
-  for (const Row& p : parts) r.insert(r.end(), p.begin(), p.end());
-  return r;
-}
+using namespace test;  // row(), knit() and the charts of lace_test_charts.h
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> out;
@@ -50,19 +36,6 @@ bool has_line(const std::string& text, const std::string& line) {
 Chart example_chart() {
   return Chart{{row({"k", "k", "yo", "ssk", "k", "k", "k", "yo", "k2tog", "yo", "k2tog", "k"}),
                 knit(12)}};
-}
-
-Chart feather_and_fan_chart() {
-  return Chart{{knit(18), cat({row({"k2tog"}, 3), row({"yo", "k"}, 6), row({"k2tog"}, 3)})}};
-}
-
-Chart horseshoe_chart() {
-  return Chart{{
-      row({"yo", "k", "k", "k", "sk2p", "k", "k", "k", "yo", "k"}),
-      row({"k", "yo", "k", "k", "sk2p", "k", "k", "yo", "k", "k"}),
-      row({"k", "k", "yo", "k", "sk2p", "k", "yo", "k", "k", "k"}),
-      row({"k", "k", "k", "yo", "sk2p", "yo", "k", "k", "k", "k"}),
-  }};
 }
 
 // Rows that change width: 6 -> 8 -> 8 -> 6 stitches (the paper allows intermediate rows to vary).

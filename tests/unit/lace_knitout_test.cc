@@ -5,7 +5,6 @@
 // and in which order they lie.
 #include <gtest/gtest.h>
 
-#include <initializer_list>
 #include <map>
 #include <random>
 #include <sstream>
@@ -15,6 +14,7 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
 #include "daemon/convert/lace_knitout.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier {
 namespace {
@@ -22,39 +22,7 @@ namespace {
 using lace::Chart;
 using lace::Row;
 using lace::Symbol;
-
-Row row(std::initializer_list<const char*> cells) {
-  Row r;
-  for (const char* c : cells) r.push_back(lace::parse_symbol(c));
-  return r;
-}
-Row knit(int n) { return Row(static_cast<size_t>(n), Symbol::k); }
-
-// Per row, per stitch (knitting order): the stitches of the row below it is worked through,
-// bottom first, as a hand knitter works the symbols.
-using Fabric = std::vector<std::vector<std::vector<int>>>;
-Fabric expected_fabric(const Chart& c, int wide, int high) {
-  Fabric f;
-  for (int v = 0; v < high; ++v) {
-    for (const Row& r : c.rows) {
-      std::vector<std::vector<int>> out;
-      int s = 0;
-      for (int t = 0; t < wide; ++t) {
-        for (Symbol sym : r) {
-          switch (sym) {
-            case Symbol::yo: out.push_back({}); break;
-            case Symbol::k: out.push_back({s}); s += 1; break;
-            case Symbol::k2tog: out.push_back({s, s + 1}); s += 2; break;
-            case Symbol::ssk: out.push_back({s + 1, s}); s += 2; break;
-            case Symbol::sk2p: out.push_back({s + 1, s + 2, s}); s += 3; break;
-          }
-        }
-      }
-      f.push_back(out);
-    }
-  }
-  return f;
-}
+using namespace lace::test;  // row(), knit(), expected_fabric() of lace_test_charts.h
 
 struct KnitRun {
   std::vector<std::string> headers;

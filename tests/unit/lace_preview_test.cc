@@ -2,24 +2,18 @@
 // puts them, decreases leaning the way a knitter sees them on the right side.
 #include <gtest/gtest.h>
 
-#include <initializer_list>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/preview.h"
 #include "algorithms/lace/symbols.h"
+#include "tests/unit/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {
 
-Row row(std::initializer_list<const char*> cells) {
-  Row r;
-  for (const char* c : cells) r.push_back(parse_symbol(c));
-  return r;
-}
-
-Row knit(int n) { return Row(static_cast<std::size_t>(n), Symbol::k); }
+using namespace test;  // row(), knit() and the charts of lace_test_charts.h
 
 // Yarn-overs inside the repeat (none on its edges): 4 per repeat, 8 stitches wide.
 Chart eyelets() {
