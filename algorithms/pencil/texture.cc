@@ -158,8 +158,9 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
   const std::array<int, 4> zone_hi{255, profile.max_mid, profile.max_mid, profile.max_range};
 
   // CCM: a pixel whose pair with its along-line neighbour never occurs in the profile takes the
-  // neighbouring value (3x3) nearest its own whose pairs, forward and if possible backward, occur
-  // and that lies in the pixel's own zone range (so the fall-off across the line survives).
+  // neighbouring value (3x3) nearest its own whose pairs, forward and backward (unless that one is
+  // broken anyway), occur and that lies in the pixel's own zone range (so the fall-off across the
+  // line survives).
   const std::vector<double>& ccm = profile.ccm;
   auto is_line = [&](int x, int y) {
     return x >= 0 && y >= 0 && x < roi.width && y < roi.height && line.at<std::uint8_t>(y, x) != 0;
@@ -188,7 +189,10 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
             if (best < 0 || std::abs(c - v) < std::abs(best - v)) best = c;
           }
         }
-        const int chosen = best >= 0 ? best : best_relaxed;
+        // The relaxed choice only where the backward pair is broken already: a change never adds
+        // a broken pair, so the passes settle instead of pushing a break up and down the line.
+        const bool back_broken = has_prev && ccm[prev * 256 + v] <= 0.0;
+        const int chosen = best >= 0 ? best : (back_broken || !has_prev ? best_relaxed : -1);
         if (chosen >= 0 && chosen != v) {
           val.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(chosen);
           ++changes;
