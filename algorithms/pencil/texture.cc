@@ -35,14 +35,6 @@ struct RangeSampler {
   }
 };
 
-double segment_distance(cv::Point2d p, cv::Point2d a, cv::Point2d b) {
-  const cv::Point2d ab = b - a;
-  const double len2 = ab.dot(ab);
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  const cv::Point2d d = p - (a + t * ab);
-  return std::sqrt(d.dot(d));
-}
-
 // The along-line neighbour offset for tangent (tx, ty), encoded (dx + 1) * 3 + (dy + 1): the
 // direction is turned so that it maps to +y for a vertical line (the ccm's (p, q+1)).
 std::uint8_t along_code(double tx, double ty) {
@@ -98,13 +90,15 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
     if (cv::norm(path[i] - pts.back()) >= kChordPx) pts.push_back(path[i]);
   if (path.size() > 1) pts.push_back(path.back());
 
-  // Distance to the path and the along-line direction of the nearest segment, per pixel.
+  // Squared distance to the path and the along-line direction of the nearest segment, per pixel.
   cv::Mat dist(roi.size(), CV_32F, cv::Scalar(1e9f));
   cv::Mat along(roi.size(), CV_8U, cv::Scalar(5));
   const std::size_t segments = pts.size() == 1 ? 1 : pts.size() - 1;
   for (std::size_t s = 0; s < segments; ++s) {
     const cv::Point2d a = pts[s], b = pts[std::min(s + 1, pts.size() - 1)];
     const std::uint8_t code = along_code(b.x - a.x, b.y - a.y);
+    const cv::Point2d ab = b - a;
+    const double inv_len2 = ab.dot(ab) > 0.0 ? 1.0 / ab.dot(ab) : 0.0;
     const int px0 = std::max(roi.x, static_cast<int>(std::floor(std::min(a.x, b.x) - half)));
     const int px1 = std::min(roi.x + roi.width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + half)));
     const int py0 = std::max(roi.y, static_cast<int>(std::floor(std::min(a.y, b.y) - half)));
@@ -113,8 +107,11 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
       float* drow = dist.ptr<float>(y - roi.y);
       std::uint8_t* arow = along.ptr<std::uint8_t>(y - roi.y);
       for (int x = px0; x <= px1; ++x) {
-        const float d = static_cast<float>(segment_distance({double(x), double(y)}, a, b));
-        if (d < drow[x - roi.x]) drow[x - roi.x] = d, arow[x - roi.x] = code;
+        const double px = x - a.x, py = y - a.y;
+        const double t = std::clamp((px * ab.x + py * ab.y) * inv_len2, 0.0, 1.0);
+        const double ex = px - t * ab.x, ey = py - t * ab.y;
+        const float d2 = static_cast<float>(ex * ex + ey * ey);
+        if (d2 < drow[x - roi.x]) drow[x - roi.x] = d2, arow[x - roi.x] = code;
       }
     }
   }
@@ -142,8 +139,8 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
     std::uint8_t* vrow = val.ptr<std::uint8_t>(y);
     std::uint8_t* lrow = line.ptr<std::uint8_t>(y);
     for (int x = 0; x < roi.width; ++x) {
-      const double d = drow[x];
-      if (d > half) continue;
+      if (drow[x] > half * half) continue;
+      const double d = std::sqrt(static_cast<double>(drow[x]));
       pixels.push_back(y * roi.width + x);
       if (d <= 0.5) {
         lrow[x] = 1, vrow[x] = static_cast<std::uint8_t>(centre.sample(rng));
