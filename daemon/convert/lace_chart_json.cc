@@ -59,4 +59,14 @@ LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& s
   return out;
 }
 
+LaceChartFile lace_chart_from_json_text(const std::string& text, const std::string& source) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(source + ": not JSON: " + e.what());
+  }
+  return lace_chart_from_json(j, source);
+}
+
 }  // namespace atelier

@@ -32,5 +32,8 @@ nlohmann::json lace_chart_to_json(const LaceChartFile& file);
 inline constexpr int kMaxLaceChartCastOn = 10000;
 inline constexpr int kMaxLaceChartRepeats = 50;
 LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source);
+// The same from the file's text: text that is not JSON is std::invalid_argument too ("not
+// JSON: ..."), naming `source` like the rest.
+LaceChartFile lace_chart_from_json_text(const std::string& text, const std::string& source);
 
 }  // namespace atelier

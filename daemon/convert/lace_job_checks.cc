@@ -58,13 +58,7 @@ std::optional<LaceChartFile> load_start_chart(const LaceParams& p) {
       const fs::path& file = *p.start_chart_file;
       const std::string text = read_text(file);
       if (file.extension() == ".json") {
-        nlohmann::json j;
-        try {
-          j = nlohmann::json::parse(text);
-        } catch (const nlohmann::json::exception& e) {
-          throw std::invalid_argument(std::string("not JSON: ") + e.what());
-        }
-        chart = lace_chart_from_json(j, "");
+        chart = lace_chart_from_json_text(text, "");
       } else {
         const lace::ParsedInstructions parsed = lace::parse_instructions(text);
         chart = LaceChartFile{parsed.chart, parsed.cast_on};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "daemon/convert/lace_chart_json.h"
@@ -31,13 +32,9 @@ LaceChartFile read_chart(const fs::path& dir) {
   const fs::path file = dir / "chart.json";
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + " cannot be read");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(file.string() + ": not JSON (" + e.what() + ")");
-  }
-  return lace_chart_from_json(j, file.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  return lace_chart_from_json_text(text.str(), file.string());
 }
 
 }  // namespace

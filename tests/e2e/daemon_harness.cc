@@ -201,6 +201,32 @@ bool DaemonProcess::wait_for(const std::function<bool()>& done, std::chrono::mil
   return done();
 }
 
+namespace {
+std::vector<std::string> knit_emulator_command(const fs::path& link, const fs::path& record, int row_ms,
+                                               const std::vector<std::string>& more) {
+  std::vector<std::string> argv{binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
+                                link.string(), "--record", record.string(), "--row-ms", std::to_string(row_ms),
+                                "--boot-ms", "50"};
+  argv.insert(argv.end(), more.begin(), more.end());
+  return argv;
+}
+}  // namespace
+
+KnitEmulator::KnitEmulator(int row_ms, const std::vector<std::string>& more)
+    : link_(dir_.path() / "knitter"),
+      record_(dir_.path() / "record.txt"),
+      process_(knit_emulator_command(link_, record_, row_ms, more), dir_.path() / "emu.log") {
+  for (int i = 0; i < 100 && !fs::exists(link_); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+}
+
+std::vector<std::string> KnitEmulator::recorded() const {
+  std::vector<std::string> rows;
+  std::ifstream in(record_);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) rows.push_back(line);
+  return rows;
+}
+
 nlohmann::json DaemonProcess::job_named(const std::string& name) {
   for (const auto& j : jobs())
     if (j["name"] == name) return j;

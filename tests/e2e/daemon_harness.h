@@ -53,6 +53,22 @@ class BackgroundProcess {
   pid_t pid_ = -1;
 };
 
+// The knitting-machine emulator (a KH930) on a link in its own temporary folder, recording the
+// needles of every pass it is sent; ready (its link there) once constructed, or after 5 s.
+// `row_ms`: how long a pass takes; `more`: further options (e.g. "--fault", "api=5").
+class KnitEmulator {
+ public:
+  explicit KnitEmulator(int row_ms = 3, const std::vector<std::string>& more = {});
+  const std::filesystem::path& link() const { return link_; }
+  // The passes recorded so far, one needle string (0/1, working range) each.
+  std::vector<std::string> recorded() const;
+
+ private:
+  TempDir dir_;
+  std::filesystem::path link_, record_;
+  BackgroundProcess process_;
+};
+
 class DaemonProcess {
  public:
   // Writes <root>/atelierd.toml with the spool, store and socket inside `root`, plus

@@ -3,13 +3,11 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
-using atelier::test::BackgroundProcess;
 using atelier::test::DaemonProcess;
 using atelier::test::TempDir;
 
@@ -17,47 +15,29 @@ namespace {
 
 struct Rig {
   TempDir tmp;
-  fs::path link = tmp.path() / "knitter";
-  fs::path record = tmp.path() / "record.txt";
-  std::unique_ptr<BackgroundProcess> emulator;
+  atelier::test::KnitEmulator emulator;
   std::unique_ptr<DaemonProcess> daemon;
 
   Rig(std::vector<std::string> faults, const std::string& knit_toml, int row_ms = 3,
-      const std::string& device_extra = "") {
-    std::vector<std::string> argv = {atelier::test::binary("atelier-knit-emu").string(), "--machine",
-                                     "kh930", "--link", link.string(), "--record", record.string(),
-                                     "--row-ms", std::to_string(row_ms), "--boot-ms", "50"};
-    for (const auto& f : faults) {
-      argv.push_back("--fault");
-      argv.push_back(f);
-    }
-    emulator = std::make_unique<BackgroundProcess>(argv, tmp.path() / "emu.log");
-    for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      const std::string& device_extra = "")
+      : emulator(row_ms, fault_options(faults)) {
     daemon = std::make_unique<DaemonProcess>(
         tmp.path(), knit_toml + "[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\nport = \"" +
-                        link.string() + "\"\nmachine = \"kh930\"\n" + device_extra);
+                        emulator.link().string() + "\"\nmachine = \"kh930\"\n" + device_extra);
     daemon->start();
   }
-
-  nlohmann::json job(const std::string& name) {
-    for (const auto& j : daemon->jobs())
-      if (j["name"] == name) return j;
-    return nullptr;
+  static std::vector<std::string> fault_options(const std::vector<std::string>& faults) {
+    std::vector<std::string> out;
+    for (const auto& f : faults) out.insert(out.end(), {"--fault", f});
+    return out;
   }
+
+  nlohmann::json job(const std::string& name) { return daemon->job_named(name); }
   bool wait_state(const std::string& name, const std::string& state,
                   std::chrono::milliseconds timeout = std::chrono::seconds(120)) {
-    return daemon->wait_for([&] {
-      auto j = job(name);
-      return !j.is_null() && j["state"] == state;
-    }, timeout);
+    return daemon->wait_job_state(name, state, timeout);
   }
-  std::vector<std::string> recorded() const {
-    std::vector<std::string> rows;
-    std::ifstream in(record);
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty()) rows.push_back(line);
-    return rows;
-  }
+  std::vector<std::string> recorded() const { return emulator.recorded(); }
 };
 
 // pattern.png as the needles should knit it: row 0 first, '1' = contrast (black).

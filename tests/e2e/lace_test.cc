@@ -6,7 +6,6 @@
 // fails naming the job file, line and key.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "daemon/convert/lace_chart_json.h"
@@ -14,7 +13,6 @@
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
-using atelier::test::BackgroundProcess;
 using atelier::test::DaemonProcess;
 using atelier::test::read_file;
 using atelier::test::TempDir;
@@ -62,30 +60,16 @@ namespace {
 
 struct KnitterRig {
   TempDir tmp;
-  fs::path link = tmp.path() / "knitter";
-  fs::path record = tmp.path() / "record.txt";
-  std::unique_ptr<BackgroundProcess> emulator;
+  atelier::test::KnitEmulator emulator;
   std::unique_ptr<DaemonProcess> daemon;
 
   explicit KnitterRig(const std::string& lace_toml) {
-    emulator = std::make_unique<BackgroundProcess>(
-        std::vector<std::string>{atelier::test::binary("atelier-knit-emu").string(), "--machine", "kh930",
-                                 "--link", link.string(), "--record", record.string(), "--row-ms", "3",
-                                 "--boot-ms", "50"},
-        tmp.path() / "emu.log");
-    for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     daemon = std::make_unique<DaemonProcess>(
         tmp.path(), "[lace]\n" + lace_toml + "[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\nport = \"" +
-                        link.string() + "\"\nmachine = \"kh930\"\nkinds = [\"knit\", \"lace\"]\n");
+                        emulator.link().string() + "\"\nmachine = \"kh930\"\nkinds = [\"knit\", \"lace\"]\n");
     daemon->start();
   }
-  std::vector<std::string> recorded() const {
-    std::vector<std::string> rows;
-    std::ifstream in(record);
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty()) rows.push_back(line);
-    return rows;
-  }
+  std::vector<std::string> recorded() const { return emulator.recorded(); }
   void drop_job(const std::string& name, const std::string& toml) {
     atelier::test::write_file(tmp.path() / name, "kind = \"lace\"\n" + toml);
     atelier::test::drop_file(tmp.path() / name, daemon->spool() / "incoming" / name);

@@ -323,37 +323,7 @@ struct LaceJobOnDevice {
   }
 };
 
-// The knitting-machine emulator (a KH930) on a link in its own temporary folder, recording the
-// needles of every pass it is sent; ready (its link there) once constructed, or after 5 s.
-// `row_ms`: how long it takes per pass; `more`: further options (faults).
-struct RecordingEmulator {
-  test::TempDir dir;
-  const std::filesystem::path link = dir.path() / "knitter", record = dir.path() / "record.txt";
-  test::BackgroundProcess process;
-
-  explicit RecordingEmulator(int row_ms, const std::vector<std::string>& more = {})
-      : process(command(row_ms, more), dir.path() / "emu.log") {
-    for (int i = 0; i < 100 && !std::filesystem::exists(link); ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  // The passes recorded so far, one needle string each (as pass_lines() writes them).
-  std::vector<std::string> recorded() const {
-    std::vector<std::string> got;
-    std::ifstream in(record);
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty()) got.push_back(line);
-    return got;
-  }
-
- private:
-  std::vector<std::string> command(int row_ms, const std::vector<std::string>& more) const {
-    std::vector<std::string> argv{test::binary("atelier-knit-emu").string(), "--machine", "kh930", "--link",
-                                  link.string(), "--record", record.string(), "--row-ms", std::to_string(row_ms),
-                                  "--boot-ms", "50"};
-    argv.insert(argv.end(), more.begin(), more.end());
-    return argv;
-  }
-};
+using RecordingEmulator = test::KnitEmulator;
 
 // Needle strings (working range, leftmost first) of the plan's passes from `from_pass` on: what
 // the emulator records.
@@ -383,7 +353,7 @@ TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
   const RecordingEmulator emulator(2);
   const Chart c{{row({"k", "yo", "sk2p", "yo", "k"}), knit(5), row({"yo", "k", "ssk", "k", "k"}), knit(5)}};
   LaceJobOnDevice rig(c, 5, 4, 2);
-  const Job job = rig.run(emulator.link.string());
+  const Job job = rig.run(emulator.link().string());
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(job.progress_done, 8);  // chart rows, repeats_high included
   EXPECT_EQ(job.progress_total, 8);
@@ -399,7 +369,7 @@ TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
   // Rows with different numbers of lace passes, so rows and passes do not line up.
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4), row({"k2tog", "yo", "k", "k"})}};
   LaceJobOnDevice rig(c, 4, 3, 2, JobState::interrupted);
-  const Job job = rig.run(emulator.link.string(), 4);
+  const Job job = rig.run(emulator.link().string(), 4);
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(job.progress_done, 6);
   const auto plan = plan_lace(c, 4, 3, 2, {});
@@ -421,7 +391,7 @@ TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
   LaceJobOnDevice rig(c, 4, 3, 2);
   // Canceled once the first transfer pass is done: stopping there would leave the stitches
   // moved but unknitted (and a resume from row 1 would move them again).
-  const Job job = rig.run(emulator.link.string(), 0, [&] { return !emulator.recorded().empty(); });
+  const Job job = rig.run(emulator.link().string(), 0, [&] { return !emulator.recorded().empty(); });
   EXPECT_EQ(job.state, JobState::canceled) << job.reason;
   EXPECT_EQ(job.progress_done, 1);
   std::vector<std::string> row_one = pass_lines(*plan.plan, 0);
@@ -435,7 +405,7 @@ TEST(AyabLacePlanOnTheMachine, ALinkLostInTheMiddleOfAChartRowSaysSoWithTheResum
   const RecordingEmulator emulator(5, {"--fault", "drop-after-row=2:60000"});
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
   LaceJobOnDevice rig(c, 4, 3, 2);
-  const Job job = rig.run(emulator.link.string());
+  const Job job = rig.run(emulator.link().string());
   ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
   EXPECT_EQ(job.progress_done, 0);
   // Resuming chart row 1 as planned would move the moved stitches again: the reason says so.
