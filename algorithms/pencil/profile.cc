@@ -63,6 +63,9 @@ PencilProfile learn_profile(const cv::Mat& gray, const std::string& name, int pa
   p.width_px = static_cast<double>(run_pixels) / static_cast<double>(runs);
   std::tie(p.min_mid, p.max_mid) = trimmed_range(p.mid_hist, kRangeTrim);
   std::tie(p.min_range, p.max_range) = trimmed_range(p.hist, kRangeTrim);
+  p.mid_pixels = runs;
+  p.line_pixels = run_pixels;
+  for (double c : p.ccm) p.ccm_pairs += static_cast<long long>(c);
   normalise(p.mid_hist);
   normalise(p.hist);
   normalise(p.ccm);

@@ -19,6 +19,12 @@ struct PencilProfile {           // statistics of one pencil's lines, grey level
   std::vector<double> hist;      // 256 bins, normalised: all line pixels
   std::vector<double> ccm;       // 256 x 256 (row i = upper pixel, column j = the one below), normalised
   double width_px = 0.0;         // typical line width (mean run length across the line)
+  // The pixel counts behind the normalised histograms, so that a profile file can store whole
+  // counts (hist[i] * line_pixels is one) and read back exactly these doubles. learn_profile
+  // fills them; 0 = unknown (a profile made some other way).
+  long long mid_pixels = 0;      // centre pixels: one per run across the line
+  long long line_pixels = 0;     // all line pixels
+  long long ccm_pairs = 0;       // vertical neighbour pairs counted in ccm
 };
 
 // The ranges [min_mid, max_mid] and [min_range, max_range] leave out this share of their pixels
@@ -29,7 +35,8 @@ inline constexpr double kRangeTrim = 0.005;
 // (rotated first, as the paper does) on white paper: line pixels are darker than
 // `paper_threshold`; centre pixels are the darkest pixel of each horizontal run of line pixels;
 // the ranges are those of the centre and line pixels less kRangeTrim at each end (the histograms
-// keep every pixel); the ccm counts vertical neighbour pairs (I(p,q), I(p,q+1)) of line pixels. Throws
+// keep every pixel); the ccm counts vertical neighbour pairs (I(p,q), I(p,q+1)) of line pixels;
+// mid_pixels, line_pixels and ccm_pairs are the totals the histograms were divided by. Throws
 // std::invalid_argument for an image that is not CV_8UC1 or holds no line pixel.
 PencilProfile learn_profile(const cv::Mat& gray, const std::string& name, int paper_threshold = 245);
 
