@@ -152,7 +152,9 @@ int run_pencil_profile(int argc, char** argv) {
       "atelier-convert pencil-profile: learn a pencil profile (Meraj et al. 2008, section 3.2) from a scan\n"
       "of lines drawn with one pencil. The lines must run VERTICALLY (rotate the scan first) on white\n"
       "paper; pixels darker than paper_threshold (245) are the line. Use the profile with\n"
-      "--set pencil=OUT.toml in sketch and line jobs.",
+      "--set pencil=OUT.toml in sketch and line jobs.\n"
+      "  atelier-convert pencil-profile SCAN.png OUT.toml [--set name=NAME] [--set paper_threshold=245]\n"
+      "  atelier-convert pencil-profile --reference GRADE OUT.toml [--scan-png SCAN.png]",
       "atelier-convert pencil-profile"};
   std::vector<std::string> files;
   std::vector<std::string> sets;
@@ -160,7 +162,10 @@ int run_pencil_profile(int argc, char** argv) {
   atelier::ImageLimits limits;
   std::vector<std::string> grades;
   for (const auto& m : atelier::pencil::grade_models()) grades.push_back(m.name);
-  app.add_option("FILES", files, "SCAN.png OUT.toml (with --reference: OUT.toml only)")->required()->expected(1, 2);
+  std::string first, second;
+  app.add_option("SCAN.png", first, "the scan: pencil lines running vertically on white paper (with --reference: OUT.toml)")
+      ->required();
+  app.add_option("OUT.toml", second, "the profile to write (atomically)");
   app.add_option("--set", sets, "name=NAME (default: OUT's stem), paper_threshold=1..255 (default 245)")
       ->allow_extra_args(false);
   app.add_option("--reference", reference,
@@ -176,6 +181,8 @@ int run_pencil_profile(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  files.push_back(first);
+  if (!second.empty()) files.push_back(second);
   const size_t want = reference.empty() ? 2 : 1;
   if (files.size() != want || (!scan_png.empty() && reference.empty())) {
     std::cerr << "error: expected " << (reference.empty() ? "SCAN.png OUT.toml" : "--reference GRADE OUT.toml")
