@@ -12,6 +12,8 @@
 #include "daemon/convert/param_table.h"
 #include "daemon/convert/parquetry_job.h"
 #include "daemon/convert/parquetry_params.h"
+#include "daemon/convert/sketch_job.h"
+#include "daemon/convert/sketch_params.h"
 
 namespace atelier {
 namespace {
@@ -25,7 +27,7 @@ std::string kind_list() {
 }  // namespace
 
 const std::vector<std::string>& known_kinds() {
-  static const std::vector<std::string> kinds{"knit", "cut", "parquetry", "embroidery", "lace"};
+  static const std::vector<std::string> kinds{"knit", "cut", "parquetry", "embroidery", "lace", "sketch"};
   return kinds;
 }
 
@@ -58,6 +60,10 @@ void validate_kind_params(const std::string& kind, const toml::table& params,
     read_lace_params(params, source);
     return;
   }
+  if (kind == "sketch") {
+    read_sketch_params(params, source);
+    return;
+  }
   throw ParamError(source + ": unknown kind '" + kind + "' (known: " + kind_list() + ")");
 }
 
@@ -76,6 +82,7 @@ ConvertResult convert(const ConvertRequest& request) {
     if (request.kind == "parquetry") return convert_parquetry(request);
     if (request.kind == "embroidery") return convert_embroidery(request);
     if (request.kind == "lace") return convert_lace(request);
+    if (request.kind == "sketch") return convert_sketch(request);
     return convert_knit(request);
   } catch (const cv::Exception& e) {
     throw ConvertError(request.input.filename().string() + ": image processing failed: " +

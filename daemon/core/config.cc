@@ -180,6 +180,10 @@ Config from_table(const toml::table& root, const std::string& source) {
     make_absolute(it->second, "textures", base);
   if (auto it = c.kind_defaults.find("lace"); it != c.kind_defaults.end())
     make_absolute(it->second, "start_chart", base);
+  if (auto it = c.kind_defaults.find("sketch"); it != c.kind_defaults.end())
+    if (auto pencil = it->second["pencil"].value_exact<std::string>();
+        pencil && std::filesystem::path(*pencil).extension() == ".toml")  // a file, not a grade
+      make_absolute(it->second, "pencil", base);
   if (auto it = c.kind_defaults.find("parquetry"); it != c.kind_defaults.end())
     place_parquetry_wood(it->second, base, c.state_dir());
   return c;

@@ -1,0 +1,205 @@
+// convert() for kind sketch: an image becomes a pencil drawing (preview.png), its hand-drawn
+// paths (lines.svg), an engraving (engrave.gcode) and report.json.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "daemon/convert/convert.h"
+#include "daemon/convert/param_table.h"
+#include "daemon/convert/pencil_profile_file.h"
+#include "drivers/grbl/program.h"
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kData = fs::path(ATELIER_TEST_DATA);
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+class ConvertSketchTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("atelier-convert-sketch-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  ConvertResult run(const fs::path& input, const std::string& params_toml = "", const std::string& out = "out") {
+    ConvertRequest req;
+    req.kind = "sketch";
+    req.input = input;
+    req.params = toml::parse(params_toml, std::string_view{"test.toml"});
+    validate_kind_params("sketch", req.params, "test.toml");
+    req.output_dir = dir_ / out;
+    return convert(req);
+  }
+  fs::path dir_;
+};
+
+// Share of the input's edge pixels (Canny on the image, scaled to the drawing) that have a
+// pencil mark (darker than 200) within `tolerance` drawing px.
+double edges_covered_by_pencil(const cv::Mat& image, const cv::Mat& preview, int tolerance) {
+  cv::Mat grey, edges, big;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  cv::Canny(grey, edges, 50, 150);
+  cv::resize(edges, big, preview.size(), 0, 0, cv::INTER_NEAREST);
+  cv::Mat marks = preview < 200, near;
+  cv::dilate(marks, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * tolerance + 1, 2 * tolerance + 1}));
+  const int all = cv::countNonZero(big);
+  return all ? static_cast<double>(cv::countNonZero(big & near)) / all : 0.0;
+}
+
+TEST_F(ConvertSketchTest, ALineDrawingIsRedrawnInPencilOverItsEdges) {
+  for (const char* name : {"pic1.png", "pic3.png", "pic5.png"}) {
+    SCOPED_TRACE(name);
+    const ConvertResult r = run(kData / name, "", name);
+    const fs::path out = dir_ / name;
+    EXPECT_EQ(r.outputs, (std::vector<std::string>{"preview.png", "lines.svg", "engrave.gcode", "report.json"}));
+    const cv::Mat image = cv::imread((kData / name).string(), cv::IMREAD_COLOR);
+    const cv::Mat preview = cv::imread((out / "preview.png").string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_EQ(preview.size(), cv::Size(image.cols * 2, image.rows * 2));
+    const double covered = edges_covered_by_pencil(image, preview, 8);
+    std::cout << name << ": " << r.report["strokes"] << " strokes, edges covered " << covered << "\n";
+    EXPECT_GT(covered, 0.85) << "the pencil lines miss the drawing's edges";
+    // Paper stays paper: most of the page is untouched white.
+    EXPECT_GT(cv::countNonZero(preview == 255), preview.total() / 2);
+    EXPECT_EQ(r.report["pencil"]["name"], "HB");
+    EXPECT_EQ(r.report["lines"].get<size_t>(), r.report["strokes"].get<size_t>());
+  }
+}
+
+TEST_F(ConvertSketchTest, SvgHoldsEveryHandDrawnPathAndTheGcodeEngravesThemWhereAsked) {
+  const ConvertResult r = run(kData / "pic3.png", "width_mm = 80\nposition_mm = [20, 30]\npencil = \"2H\"\n");
+  const std::string svg = slurp(dir_ / "out" / "lines.svg");
+  size_t paths = 0;
+  for (size_t at = svg.find("<path d=\"M"); at != std::string::npos; at = svg.find("<path d=\"M", at + 1)) ++paths;
+  EXPECT_EQ(paths, r.report["lines"].get<size_t>());
+  EXPECT_THAT(svg, HasSubstr("width=\"80mm\" height=\"60mm\" viewBox=\"0 0 800 600\""));
+  EXPECT_THAT(svg, HasSubstr("stroke=\"#3c3c3c\""));
+
+  const std::string gcode = slurp(dir_ / "out" / "engrave.gcode");
+  const grbl::Program prog = grbl::parse_program(gcode, 6000);  // GRBL can take every line
+  ASSERT_TRUE(prog.bounds);
+  // Design (20..100, 30..90) mm on a 400 mm front-left bed: machine Y = 400 - y.
+  EXPECT_GE(prog.bounds->min_x, 20 - 0.01);
+  EXPECT_LE(prog.bounds->max_x, 100 + 0.01);
+  EXPECT_GE(prog.bounds->min_y, 310 - 0.01);
+  EXPECT_LE(prog.bounds->max_y, 370 + 0.01);
+  EXPECT_GT(prog.bounds->width(), 60);
+  EXPECT_EQ(r.report["engrave"]["power_from"], "pencil");
+  EXPECT_GT(r.report["engrave"]["length_mm"].get<double>(), 100);
+}
+
+TEST_F(ConvertSketchTest, SofterPencilsDrawAndBurnDarker) {
+  const ConvertResult hard = run(kData / "pic5.png", "pencil = \"2H\"\n", "2H");
+  const ConvertResult soft = run(kData / "pic5.png", "pencil = \"8B\"\n", "8B");
+  EXPECT_LT(hard.report["engrave"]["power_pct"].get<double>(), soft.report["engrave"]["power_pct"].get<double>());
+  auto darkness = [&](const char* d) {
+    const cv::Mat p = cv::imread((dir_ / d / "preview.png").string(), cv::IMREAD_GRAYSCALE);
+    return 255.0 - cv::mean(p, p < 250)[0];
+  };
+  EXPECT_GT(darkness("8B"), darkness("2H") + 20);
+  // An explicit power wins.
+  const ConvertResult fixed = run(kData / "pic5.png", "pencil = \"8B\"\npower_pct = 12\n", "fixed");
+  EXPECT_EQ(fixed.report["engrave"]["power_pct"], 12);
+  EXPECT_THAT(slurp(dir_ / "fixed" / "engrave.gcode"), HasSubstr("S120"));
+}
+
+TEST_F(ConvertSketchTest, SeedsAreReproducibleAndDifferentSeedsDrawDifferentLines) {
+  run(kData / "pic1.png", "seed = 7\n", "a");
+  run(kData / "pic1.png", "seed = 7\n", "b");
+  run(kData / "pic1.png", "seed = 8\n", "c");
+  EXPECT_EQ(slurp(dir_ / "a" / "lines.svg"), slurp(dir_ / "b" / "lines.svg"));
+  EXPECT_EQ(slurp(dir_ / "a" / "preview.png"), slurp(dir_ / "b" / "preview.png"));
+  EXPECT_NE(slurp(dir_ / "a" / "lines.svg"), slurp(dir_ / "c" / "lines.svg"));
+  // Without squiggle the lines are straight: the same for every seed.
+  run(kData / "pic1.png", "seed = 7\nsquiggle = 0\n", "d");
+  run(kData / "pic1.png", "seed = 8\nsquiggle = 0\n", "e");
+  EXPECT_EQ(slurp(dir_ / "d" / "lines.svg"), slurp(dir_ / "e" / "lines.svg"));
+}
+
+TEST_F(ConvertSketchTest, HatchingFillsDarkRegionsWithLines) {
+  cv::Mat img(200, 300, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::rectangle(img, {50, 50}, {249, 149}, cv::Scalar(30, 30, 30), cv::FILLED);
+  cv::imwrite((dir_ / "dark.png").string(), img);
+  const ConvertResult plain = run(dir_ / "dark.png", "", "plain");
+  const ConvertResult hatched = run(dir_ / "dark.png", "hatching = true\n", "hatched");
+  EXPECT_EQ(plain.report["hatch_lines"], 0);
+  EXPECT_GT(hatched.report["hatch_lines"].get<int>(), 20);
+  const cv::Mat a = cv::imread((dir_ / "plain" / "preview.png").string(), cv::IMREAD_GRAYSCALE);
+  const cv::Mat b = cv::imread((dir_ / "hatched" / "preview.png").string(), cv::IMREAD_GRAYSCALE);
+  const cv::Rect inside(130, 130, 340, 140);  // the square, inset from its outline (drawing px)
+  EXPECT_LT(cv::mean(b(inside))[0], cv::mean(a(inside))[0] - 20) << "hatching did not darken the square";
+  const cv::Rect outside(0, 0, 600, 60);  // paper above it
+  EXPECT_EQ(cv::countNonZero(b(outside) < 200), 0) << "hatching spilled onto the paper";
+  const std::string svg = slurp(dir_ / "hatched" / "lines.svg");
+  EXPECT_THAT(svg, HasSubstr("<g id=\"hatching\""));
+}
+
+TEST_F(ConvertSketchTest, APencilProfileFileCanBeUsed) {
+  pencil::PencilProfile mine = shipped_pencil("B");
+  mine.name = "my-b";
+  { std::ofstream(dir_ / "my-b.toml") << profile_to_toml(mine); }
+  std::ofstream(dir_ / "params.toml") << "pencil = \"my-b.toml\"\n";
+  ConvertRequest req;
+  req.kind = "sketch";
+  req.input = kData / "pic1.png";
+  req.params = toml::parse_file((dir_ / "params.toml").string());
+  validate_kind_params("sketch", req.params, (dir_ / "params.toml").string());
+  req.output_dir = dir_ / "out";
+  const ConvertResult r = convert(req);
+  EXPECT_EQ(r.report["pencil"]["name"], "my-b");
+}
+
+TEST_F(ConvertSketchTest, BadInputsAndParametersAreClearErrors) {
+  cv::imwrite((dir_ / "blank.png").string(), cv::Mat(100, 100, CV_8UC3, cv::Scalar(255, 255, 255)));
+  try {
+    run(dir_ / "blank.png");
+    FAIL() << "a blank page converted";
+  } catch (const ConvertError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("blank.png: nothing to draw"));
+  }
+  try {
+    run(kData / "pic1.png", "pencil = \"7B\"\n");
+    FAIL() << "an unknown pencil was accepted";
+  } catch (const ParamError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("test.toml:1: key 'pencil'"));
+    EXPECT_THAT(e.what(), HasSubstr("2H, H, F, HB, B, 3B, 6B, 8B"));
+  }
+  EXPECT_THROW(run(kData / "pic1.png", "squigle = 3\n"), ParamError);
+  EXPECT_THROW(run(kData / "pic1.png", "position_mm = [1]\n"), ParamError);
+  try {
+    run(kData / "pic1.png", "width_mm = 500\n");
+    FAIL() << "an engraving larger than the bed was accepted";
+  } catch (const ConvertError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("pic1.png: engraving 500 mm wide"));
+    EXPECT_THAT(e.what(), HasSubstr("outside"));
+  }
+  try {
+    run(kData / "pic1.png", "pencil = \"" + (dir_ / "missing.toml").string() + "\"\n");
+    FAIL() << "a missing pencil file was accepted";
+  } catch (const ConvertError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("missing.toml"));
+  }
+  std::ofstream(dir_ / "text.png") << "not an image";
+  EXPECT_THROW(run(dir_ / "text.png"), ConvertError);
+}
+
+}  // namespace
+}  // namespace atelier
