@@ -54,7 +54,7 @@ double to_segment(cv::Point2d p, cv::Point2d a, cv::Point2d b) {
   return std::hypot(p.x - q.x, p.y - q.y);
 }
 
-// Step 1 of edge_strokes: removes the "simple" pixels of the edges (Yokoi's 8-connectivity
+// Step 0 of edge_strokes: removes the "simple" pixels of the edges (Yokoi's 8-connectivity
 // number is 1: taking the pixel away neither splits an edge nor opens a hole) that are not line
 // ends, in raster order until none is left. This leaves edges 8-connected and 1 px wide, with no
 // 4-connected staircase pairs, so a border walk comes back over the very pixels it went out on.

@@ -56,17 +56,20 @@ cv::Vec2d auto_canny_thresholds(const cv::Mat& smoothed);
 cv::Mat edge_map(const cv::Mat& image, const StrokeParams& params);
 
 // The edges of edge_map as straight strokes, each edge drawn once:
+//  0. Thinning: edge pixels whose removal changes no connection (Yokoi's 8-connectivity number
+//     is 1) and that are not line ends are removed, so every edge is 8-connected and 1 px wide
+//     (Canny leaves 4-connected staircase pairs, which a border walk goes round on both sides).
 //  1. cv::findContours (RETR_LIST, CHAIN_APPROX_NONE) gives, for each connected edge, a walk
-//     round its 1 px wide pixels (out along every branch and back, and a closed edge twice:
-//     as an outer border and as a hole).
+//     round its pixels (out along every branch and back, and a closed edge twice: as an outer
+//     border and as a hole). Walks are taken longest first.
 //  2. De-duplication on pixels: each walk is cut into open polylines of pixels no earlier walk
 //     (nor the same walk earlier) has visited; a polyline that continues from, or runs into, a
 //     visited pixel keeps that pixel as its end (so branches meet their trunk), except for the
 //     pixel it just came from (no 1 px hook where a walk turns back). A walk that comes round
 //     to where it started is closed with its first pixel.
-//  3. Each polyline is simplified by cv::approxPolyDP (epsilon simplify_px; a nearly closed one
-//     is first split at its pixel farthest from its start, since Douglas-Peucker needs distinct
-//     ends).
+//  3. Each polyline is simplified by cv::approxPolyDP (epsilon simplify_px): a closed one as a
+//     closed curve (no vertex just because the walk began there), a nearly closed one split
+//     first at its pixel farthest from its start (Douglas-Peucker needs distinct ends).
 //  4. Merging: walking each simplified polyline, the next segment joins the current stroke
 //     while the stroke's direction (start -> end) turns by less than merge_angle_deg when it
 //     does, and every vertex the longer stroke replaces lies within merge_offset_px of it. (The
@@ -74,8 +77,9 @@ cv::Mat edge_map(const cv::Mat& image, const StrokeParams& params);
 //     point 45 degrees off however straight the edge is.) A stroke therefore stays within
 //     simplify_px + merge_offset_px of its edge pixels.
 //  5. Strokes shorter than min_stroke_px are dropped; with max_stroke_px, longer ones are split.
-// Order, as a hand would draw: edge by edge in findContours' order, each edge along its walk,
-// each stroke in the walking direction (one stroke's `to` is usually the next one's `from`).
+// Order, as a hand would draw: the big shapes first (walks longest first; ties in
+// findContours' order), each edge along its walk, each stroke in the walking direction (one
+// stroke's `to` is usually the next one's `from`, and a closed edge is drawn round).
 // Throws as edge_map.
 std::vector<Segment> edge_strokes(const cv::Mat& image, const StrokeParams& params);
 
