@@ -183,6 +183,14 @@ TEST_F(PencilConvertTool, LearnsAPencilFromAScan) {
   EXPECT_EQ(got.width_px, want.width_px);
   EXPECT_THAT(slurp(dir_ / "soft.toml"), HasSubstr("source = \"scan.png\""));
 
+  // A scan with transparency: transparent pixels are paper, whatever their colour.
+  cv::Mat bgra;
+  cv::cvtColor(scan, bgra, cv::COLOR_GRAY2BGRA);
+  bgra(cv::Rect(0, 0, 8, 40)).setTo(cv::Scalar(0, 0, 0, 0));  // black but transparent, left of the lines
+  ASSERT_TRUE(cv::imwrite((dir_ / "alpha.png").string(), bgra));
+  ASSERT_EQ(tool("pencil-profile " + q(dir_ / "alpha.png") + " " + q(dir_ / "soft.toml")), 0) << err();
+  EXPECT_TRUE(load_profile_file(dir_ / "soft.toml").hist == want.hist);
+
   ASSERT_EQ(tool("pencil-profile " + q(dir_ / "scan.png") + " " + q(dir_ / "b.toml") +
                  " --set name=Mine --set paper_threshold=200"),
             0)
