@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -11,29 +12,46 @@ namespace atelier::pencil {
 
 namespace {
 
-// Cumulative weights of `hist` over [lo, hi]; sampling falls back to uniform when it is empty.
-struct RangeSampler {
-  int lo = 0, hi = 0;
-  std::array<double, 256> cdf{};
-  double total = 0.0;
-
-  RangeSampler(const std::vector<double>& hist, int from, int to) : lo(std::clamp(std::min(from, to), 0, 255)),
-                                                                     hi(std::clamp(std::max(from, to), 0, 255)) {
-    for (int v = lo; v <= hi; ++v) {
-      total += hist[v];
-      cdf[v - lo] = total;
-    }
+GreyRange grey_range(const std::vector<double>& hist, int from, int to) {
+  GreyRange r;
+  r.lo = std::clamp(std::min(from, to), 0, 255);
+  r.hi = std::clamp(std::max(from, to), 0, 255);
+  for (int v = r.lo; v <= r.hi; ++v) {
+    r.total += hist[v];
+    r.cdf[v - r.lo] = r.total;
   }
-
-  // A value from the quantile band [q0, q1] of the range (0 = its darkest, 1 = its lightest).
-  int sample(std::mt19937_64& rng, double q0 = 0.0, double q1 = 1.0) const {
-    const double u = std::uniform_real_distribution<double>(q0, q1)(rng);
-    if (total <= 0.0) return lo + std::min(hi - lo, static_cast<int>(u * (hi - lo + 1)));
-    const double* first = cdf.data();
-    const double* it = std::upper_bound(first, first + (hi - lo + 1), u * total);
-    return lo + std::min(static_cast<int>(it - first), hi - lo);
+  // Both the bucket edges and the cdf rise: one walk finds each edge's upper bound.
+  int i = 0;
+  for (std::size_t k = 0; k < r.guide.size(); ++k) {
+    const double edge = r.total * static_cast<double>(k) / r.guide.size();
+    while (i <= r.hi - r.lo && r.cdf[i] <= edge) ++i;
+    r.guide[k] = static_cast<std::uint16_t>(i);
   }
-};
+  return r;
+}
+
+// A uniform double in [0, 1) from one draw, exactly as std::generate_canonical<double, 53> makes
+// it from a 64-bit engine (so results match std::uniform_real_distribution), without the
+// logarithms libstdc++ works out on every call.
+double canonical(std::mt19937_64& rng) {
+  const double u = static_cast<double>(rng()) * 0x1p-64;
+  return u < 1.0 ? u : std::nextafter(1.0, 0.0);
+}
+
+// A value of `range` from its quantile band [q0, q1] (0 = its darkest, 1 = its lightest); uniform
+// over the range when its histogram is empty there.
+int sample(const GreyRange& range, std::mt19937_64& rng, double q0 = 0.0, double q1 = 1.0) {
+  const double u = canonical(rng) * (q1 - q0) + q0;
+  const int span = range.hi - range.lo;
+  if (range.total <= 0.0) return range.lo + std::min(span, static_cast<int>(u * (span + 1)));
+  // The first i with cdf[i] > x (std::upper_bound), searched from the guide's start.
+  const double x = u * range.total;
+  const double scaled = std::clamp(x / range.total * range.guide.size(), 0.0, range.guide.size() - 1.0);
+  int i = range.guide[static_cast<std::size_t>(scaled)];
+  while (i > 0 && range.cdf[i - 1] > x) --i;
+  while (i <= span && range.cdf[i] <= x) ++i;
+  return range.lo + std::min(i, span);
+}
 
 // The along-line neighbour offset for tangent (tx, ty), encoded (dx + 1) * 3 + (dy + 1): the
 // direction is turned so that it maps to +y for a vertical line (the ccm's (p, q+1)).
@@ -50,21 +68,45 @@ std::uint8_t along_code(double tx, double ty) {
   return static_cast<std::uint8_t>((dx + 1) * 3 + (dy + 1));
 }
 
-}  // namespace
+// One chord of the path and the pixels (region coordinates) that may lie within the half width
+// of it: its ends' box grown by the half width.
+struct Chord {
+  cv::Point2d a, ab;
+  double inv_len2;
+  std::uint8_t code;
+  int x0, x1, y0, y1;
+};
 
-void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PencilProfile& profile,
-                      std::uint64_t seed) {
-  if (canvas.type() != CV_8UC1) throw std::invalid_argument("draw_pencil_line: canvas must be CV_8UC1");
+struct LinePixel {
+  int x, y, cell;
+};
+
+// Everything of a PreparedProfile but the ccm bits: cheap enough to make for a single line.
+PreparedProfile prepare_zones(const PencilProfile& profile) {
   if (profile.mid_hist.size() != 256 || profile.hist.size() != 256 || profile.ccm.size() != 256 * 256)
     throw std::invalid_argument("draw_pencil_line: profile needs 256-bin histograms and a 256 x 256 ccm");
-  if (path.empty() || canvas.empty()) return;
-
-  const double half = std::max(0.5, profile.width_px / 2.0);
+  PreparedProfile pp;
+  pp.half = std::max(0.5, profile.width_px / 2.0);
   // The near zone is as wide as the profile's share of dark pixels ([min_range, max_mid]) asks:
   // of the ~width_px pixels across the line, that share is dark, one of them the centre.
   double dark = 0.0;
   for (int v = std::max(0, profile.min_range); v <= std::min(255, profile.max_mid); ++v) dark += profile.hist[v];
-  const double inner = std::clamp(0.5 + (dark * 2.0 * half - 1.0) / 2.0, 0.5, half);
+  pp.inner = std::clamp(0.5 + (dark * 2.0 * pp.half - 1.0) / 2.0, 0.5, pp.half);
+  pp.centre = grey_range(profile.mid_hist, profile.min_mid, profile.max_mid);
+  pp.near = grey_range(profile.hist, profile.min_range, profile.max_mid);
+  pp.far = grey_range(profile.hist, profile.max_mid, profile.max_range);
+  pp.zone_lo = {0, profile.min_mid, profile.min_range, profile.max_mid};
+  pp.zone_hi = {255, profile.max_mid, profile.max_mid, profile.max_range};
+  return pp;
+}
+
+// The line, with `occurs(i, j)` telling whether the ccm pair (upper i, lower j) occurs.
+template <typename Occurs>
+void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PreparedProfile& pp, Occurs occurs,
+               std::uint64_t seed) {
+  if (path.empty() || canvas.empty()) return;
+
+  const double half = pp.half, inner = pp.inner;
   // The region: the path's bounding box grown by the half width and the blur's reach.
   double x0 = path[0].x, x1 = x0, y0 = path[0].y, y1 = y0;
   for (const cv::Point2d& p : path) {
@@ -79,6 +121,7 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
                        static_cast<int>(std::ceil(y1) - std::floor(y0)) + 2 * margin + 1);
   const cv::Rect roi = grown & cv::Rect(0, 0, canvas.cols, canvas.rows);
   if (roi.empty()) return;
+  const int width = roi.width, height = roi.height;
 
   // Chords of >= kChordPx between kept samples: a spline sampled every 0.5 px is smooth enough that
   // they stray from it by far less than a pixel, and the distance work below shrinks fourfold.
@@ -90,124 +133,193 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
     if (cv::norm(path[i] - pts.back()) >= kChordPx) pts.push_back(path[i]);
   if (path.size() > 1) pts.push_back(path.back());
 
-  // Squared distance to the path and the along-line direction of the nearest segment, per pixel.
-  cv::Mat dist(roi.size(), CV_32F, cv::Scalar(1e9f));
-  cv::Mat along(roi.size(), CV_8U, cv::Scalar(5));
+  // The cells worked on, row by row (region coordinates): row y holds x in [lo[y], hi[y]], the
+  // union of the chords' boxes grown by one pixel (so every 3x3 neighbour of a line pixel inside
+  // the region is a cell), at cell base[y] + x. A diagonal line's bounding box is mostly empty;
+  // this band is a few pixels wider than the line.
   const std::size_t segments = pts.size() == 1 ? 1 : pts.size() - 1;
+  std::vector<Chord> chords;
+  chords.reserve(segments);
+  std::vector<int> lo(height, width), hi(height, -1), base(height, 0);
   for (std::size_t s = 0; s < segments; ++s) {
     const cv::Point2d a = pts[s], b = pts[std::min(s + 1, pts.size() - 1)];
-    const std::uint8_t code = along_code(b.x - a.x, b.y - a.y);
     const cv::Point2d ab = b - a;
-    const double inv_len2 = ab.dot(ab) > 0.0 ? 1.0 / ab.dot(ab) : 0.0;
-    const int px0 = std::max(roi.x, static_cast<int>(std::floor(std::min(a.x, b.x) - half)));
-    const int px1 = std::min(roi.x + roi.width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + half)));
-    const int py0 = std::max(roi.y, static_cast<int>(std::floor(std::min(a.y, b.y) - half)));
-    const int py1 = std::min(roi.y + roi.height - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + half)));
-    for (int y = py0; y <= py1; ++y) {
-      float* drow = dist.ptr<float>(y - roi.y);
-      std::uint8_t* arow = along.ptr<std::uint8_t>(y - roi.y);
-      for (int x = px0; x <= px1; ++x) {
-        const double px = x - a.x, py = y - a.y;
-        const double t = std::clamp((px * ab.x + py * ab.y) * inv_len2, 0.0, 1.0);
-        const double ex = px - t * ab.x, ey = py - t * ab.y;
+    const Chord c{a, ab, ab.dot(ab) > 0.0 ? 1.0 / ab.dot(ab) : 0.0, along_code(ab.x, ab.y),
+                  std::max(roi.x, static_cast<int>(std::floor(std::min(a.x, b.x) - half))) - roi.x,
+                  std::min(roi.x + width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + half))) - roi.x,
+                  std::max(roi.y, static_cast<int>(std::floor(std::min(a.y, b.y) - half))) - roi.y,
+                  std::min(roi.y + height - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + half))) - roi.y};
+    if (c.x0 > c.x1 || c.y0 > c.y1) continue;  // wholly off the canvas
+    for (int y = std::max(0, c.y0 - 1); y <= std::min(height - 1, c.y1 + 1); ++y) {
+      lo[y] = std::min(lo[y], std::max(0, c.x0 - 1));
+      hi[y] = std::max(hi[y], std::min(width - 1, c.x1 + 1));
+    }
+    chords.push_back(c);
+  }
+  int cells = 0;
+  for (int y = 0; y < height; ++y) {
+    base[y] = cells - lo[y];
+    cells += std::max(0, hi[y] - lo[y] + 1);
+  }
+
+  // Squared distance to the path and the along-line direction of the nearest chord, per cell.
+  std::vector<float> dist(cells, 1e9f);
+  std::vector<std::uint8_t> along(cells, 5);
+  for (const Chord& c : chords) {
+    for (int y = c.y0; y <= c.y1; ++y) {
+      float* drow = dist.data() + base[y];
+      std::uint8_t* arow = along.data() + base[y];
+      const double py = y + roi.y - c.a.y;
+      for (int x = c.x0; x <= c.x1; ++x) {
+        const double px = x + roi.x - c.a.x;
+        const double t = std::clamp((px * c.ab.x + py * c.ab.y) * c.inv_len2, 0.0, 1.0);
+        const double ex = px - t * c.ab.x, ey = py - t * c.ab.y;
         const float d2 = static_cast<float>(ex * ex + ey * ey);
-        if (d2 < drow[x - roi.x]) drow[x - roi.x] = d2, arow[x - roi.x] = code;
+        // Selects, not a branch: which chord is nearer is a coin toss near the line.
+        const bool nearer = d2 < drow[x];
+        drow[x] = nearer ? d2 : drow[x];
+        arow[x] = nearer ? c.code : arow[x];
       }
     }
   }
 
   // Seed: the bell-shaped fall-off, darkest at the centre.
   std::mt19937_64 rng(seed);
-  const RangeSampler centre(profile.mid_hist, profile.min_mid, profile.max_mid);
-  const RangeSampler near(profile.hist, profile.min_range, profile.max_mid);
-  const RangeSampler far(profile.hist, profile.max_mid, profile.max_range);
   // Within the two outer zones the fall-off continues: a pixel at fraction s of its zone's width
   // takes its value from the quantile band around s of the zone's range, so lines lighten
   // steadily outwards instead of jumping between dark and light (and the blur keeps the shades).
   // The band is about one pixel's share of its zone on each side of the line.
-  auto band = [&rng](const RangeSampler& sampler, double s, double zone_px) {
+  auto banded = [&rng](const GreyRange& range, double s, double zone_px) {
     const double b = std::clamp(0.5 / std::max(zone_px, 1e-9), 0.05, 0.5);
-    return sampler.sample(rng, std::clamp(s - b, 0.0, 1.0 - 2 * b), std::clamp(s + b, 2 * b, 1.0));
+    return sample(range, rng, std::clamp(s - b, 0.0, 1.0 - 2 * b), std::clamp(s + b, 2 * b, 1.0));
   };
-  // line: 0 paper, 1 centre, 2 near, 3 far (the zone decides the values a pixel may take).
-  cv::Mat val(roi.size(), CV_8U, cv::Scalar(255));
-  cv::Mat line(roi.size(), CV_8U, cv::Scalar(0));
-  std::vector<int> pixels;  // the line's pixels, y * roi.width + x in row-major order
+  // zone: 0 paper, 1 centre, 2 near, 3 far (the zone decides the values a pixel may take).
+  // Cells that are not line stay paper (255), which the blur reads.
+  std::vector<std::uint8_t> val(cells, 255), zone(cells, 0);
+  std::vector<LinePixel> pixels;  // the line's pixels in row-major order
   pixels.reserve(static_cast<std::size_t>(pts.size() * kChordPx * (2.0 * half + 2.0)) + 16);
-  for (int y = 0; y < roi.height; ++y) {
-    const float* drow = dist.ptr<float>(y);
-    std::uint8_t* vrow = val.ptr<std::uint8_t>(y);
-    std::uint8_t* lrow = line.ptr<std::uint8_t>(y);
-    for (int x = 0; x < roi.width; ++x) {
-      if (drow[x] > half * half) continue;
-      const double d = std::sqrt(static_cast<double>(drow[x]));
-      pixels.push_back(y * roi.width + x);
+  const double near_px = inner - 0.5, far_px = half - inner;
+  for (int y = 0; y < height; ++y) {
+    for (int x = lo[y]; x <= hi[y]; ++x) {
+      const int cell = base[y] + x;
+      if (dist[cell] > half * half) continue;
+      const double d = std::sqrt(static_cast<double>(dist[cell]));
+      pixels.push_back({x, y, cell});
       if (d <= 0.5) {
-        lrow[x] = 1, vrow[x] = static_cast<std::uint8_t>(centre.sample(rng));
+        zone[cell] = 1, val[cell] = static_cast<std::uint8_t>(sample(pp.centre, rng));
       } else if (d <= inner) {
-        lrow[x] = 2, vrow[x] = static_cast<std::uint8_t>(band(near, (d - 0.5) / std::max(1e-9, inner - 0.5), inner - 0.5));
+        zone[cell] = 2, val[cell] = static_cast<std::uint8_t>(banded(pp.near, (d - 0.5) / std::max(1e-9, near_px), near_px));
       } else {
-        lrow[x] = 3, vrow[x] = static_cast<std::uint8_t>(band(far, (d - inner) / std::max(1e-9, half - inner), half - inner));
+        zone[cell] = 3, val[cell] = static_cast<std::uint8_t>(banded(pp.far, (d - inner) / std::max(1e-9, far_px), far_px));
       }
     }
   }
-  const std::array<int, 4> zone_lo{0, profile.min_mid, profile.min_range, profile.max_mid};
-  const std::array<int, 4> zone_hi{255, profile.max_mid, profile.max_mid, profile.max_range};
 
   // CCM: a pixel whose pair with its along-line neighbour never occurs in the profile takes the
   // neighbouring value (3x3) nearest its own whose pairs, forward and backward (unless that one is
   // broken anyway), occur and that lies in the pixel's own zone range (so the fall-off across the
-  // line survives).
-  const std::vector<double>& ccm = profile.ccm;
-  auto is_line = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < roi.width && y < roi.height && line.at<std::uint8_t>(y, x) != 0;
+  // line survives). Pixels are visited in order, each pass over the whole line; a pixel is only
+  // worked out again once something in its 3x3 neighbourhood (itself included) has changed since
+  // it last was -- otherwise it would come to the same answer -- so the result is that of full
+  // passes, and the passes stop when one changes nothing.
+  auto line_cell = [&](int x, int y) {  // the cell of a line pixel at (x, y), or -1
+    if (x < 0 || y < 0 || x >= width || y >= height) return -1;
+    const int c = base[y] + x;
+    return zone[c] != 0 ? c : -1;
   };
+  std::vector<std::uint8_t> dirty(cells, 1);
   for (int pass = 0; pass < kMaxCcmPasses; ++pass) {
     int changes = 0;
-    for (const int index : pixels) {
-      {
-        const int y = index / roi.width, x = index % roi.width;
-        const int zone = line.at<std::uint8_t>(y, x);
-        const int code = along.at<std::uint8_t>(y, x);
-        const int dx = code / 3 - 1, dy = code % 3 - 1;
-        if (!is_line(x + dx, y + dy)) continue;
-        const int v = val.at<std::uint8_t>(y, x), next = val.at<std::uint8_t>(y + dy, x + dx);
-        if (ccm[v * 256 + next] > 0.0) continue;
-        const bool has_prev = is_line(x - dx, y - dy);
-        const int prev = has_prev ? val.at<std::uint8_t>(y - dy, x - dx) : 0;
-        int best = -1, best_relaxed = -1;
-        for (int ny = y - 1; ny <= y + 1; ++ny) {
-          for (int nx = x - 1; nx <= x + 1; ++nx) {
-            if ((nx == x && ny == y) || !is_line(nx, ny)) continue;
-            const int c = val.at<std::uint8_t>(ny, nx);
-            if (c < zone_lo[zone] || c > zone_hi[zone] || ccm[c * 256 + next] <= 0.0) continue;
-            if (best_relaxed < 0 || std::abs(c - v) < std::abs(best_relaxed - v)) best_relaxed = c;
-            if (has_prev && ccm[prev * 256 + c] <= 0.0) continue;
-            if (best < 0 || std::abs(c - v) < std::abs(best - v)) best = c;
-          }
+    for (const LinePixel& p : pixels) {
+      if (!dirty[p.cell]) continue;
+      dirty[p.cell] = 0;
+      const int code = along[p.cell];
+      const int dx = code / 3 - 1, dy = code % 3 - 1;
+      const int next_cell = line_cell(p.x + dx, p.y + dy);
+      if (next_cell < 0) continue;
+      const int v = val[p.cell], next = val[next_cell];
+      if (occurs(v, next)) continue;
+      const int prev_cell = line_cell(p.x - dx, p.y - dy);
+      const bool has_prev = prev_cell >= 0;
+      const int prev = has_prev ? val[prev_cell] : 0;
+      const int zlo = pp.zone_lo[zone[p.cell]], zhi = pp.zone_hi[zone[p.cell]];
+      // The nearest candidate, the first in scan order among equals: the least key
+      // |c - v| << 16 | order << 8 | c (selects rather than branches: the tests are coin tosses).
+      constexpr int kNone = 1 << 30;
+      int best_key = kNone, relaxed_key = kNone, order = 0;
+      const bool inside = p.x > 0 && p.y > 0 && p.x < width - 1 && p.y < height - 1;
+      for (int ny = p.y - 1; ny <= p.y + 1; ++ny) {
+        for (int nx = p.x - 1; nx <= p.x + 1; ++nx) {
+          if (nx == p.x && ny == p.y) continue;
+          const int n = inside ? base[ny] + nx : line_cell(nx, ny);
+          const bool line = n >= 0 && zone[n] != 0;
+          const int c = n >= 0 ? val[n] : 0;
+          const int key = std::abs(c - v) << 16 | order++ << 8 | c;
+          const bool fits = line & (c >= zlo) & (c <= zhi) && occurs(c, next);
+          relaxed_key = fits ? std::min(relaxed_key, key) : relaxed_key;
+          best_key = fits & (!has_prev || occurs(prev, c)) ? std::min(best_key, key) : best_key;
         }
-        // The relaxed choice only where the backward pair is broken already: a change never adds
-        // a broken pair, so the passes settle instead of pushing a break up and down the line.
-        const bool back_broken = has_prev && ccm[prev * 256 + v] <= 0.0;
-        const int chosen = best >= 0 ? best : (back_broken || !has_prev ? best_relaxed : -1);
-        if (chosen >= 0 && chosen != v) {
-          val.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(chosen);
-          ++changes;
-        }
+      }
+      const int best = best_key != kNone ? (best_key & 255) : -1;
+      const int best_relaxed = relaxed_key != kNone ? (relaxed_key & 255) : -1;
+      // The relaxed choice only where the backward pair is broken already: a change never adds
+      // a broken pair, so the passes settle instead of pushing a break up and down the line.
+      const bool back_broken = has_prev && !occurs(prev, v);
+      const int chosen = best >= 0 ? best : (back_broken || !has_prev ? best_relaxed : -1);
+      if (chosen >= 0 && chosen != v) {
+        val[p.cell] = static_cast<std::uint8_t>(chosen);
+        ++changes;
+        for (int ny = std::max(0, p.y - 1); ny <= std::min(height - 1, p.y + 1); ++ny)
+          for (int nx = std::max(0, p.x - 1); nx <= std::min(width - 1, p.x + 1); ++nx) dirty[base[ny] + nx] = 1;
       }
     }
     if (changes == 0) break;
   }
 
-  // One 3x3 Gaussian pass, then onto the canvas by min (graphite only darkens).
-  cv::Mat blurred;
-  cv::GaussianBlur(val, blurred, cv::Size(3, 3), kBlurSigma, kBlurSigma, cv::BORDER_REPLICATE);
+  // One 3x3 Gaussian pass on the line's pixels, then onto the canvas by min (graphite only
+  // darkens). The pass is OpenCV's fixed-point one for 8-bit images (taps in 1/256, rounded once
+  // at the end; the region's edge replicated), so it equals cv::GaussianBlur on the region.
+  const double side = std::exp(-1.0 / (2.0 * kBlurSigma * kBlurSigma));
+  const unsigned w_side = static_cast<unsigned>(std::lround(256.0 * side / (1.0 + 2.0 * side)));
+  const unsigned w_mid = 256u - 2u * w_side;
   cv::Mat target = canvas(roi);
-  for (const int index : pixels) {
-    const int y = index / roi.width, x = index % roi.width;
-    std::uint8_t& c = target.at<std::uint8_t>(y, x);
-    c = std::min(c, blurred.at<std::uint8_t>(y, x));
+  for (const LinePixel& p : pixels) {
+    const int xl = std::max(0, p.x - 1), xr = std::min(width - 1, p.x + 1);
+    auto row = [&](int y) {
+      const std::uint8_t* r = val.data() + base[std::clamp(y, 0, height - 1)];
+      return w_side * r[xl] + w_mid * r[p.x] + w_side * r[xr];
+    };
+    const unsigned sum = w_side * row(p.y - 1) + w_mid * row(p.y) + w_side * row(p.y + 1);
+    std::uint8_t& c = target.at<std::uint8_t>(p.y, p.x);
+    c = std::min(c, static_cast<std::uint8_t>((sum + (1u << 15)) >> 16));
   }
+}
+
+}  // namespace
+
+PreparedProfile prepare(const PencilProfile& profile) {
+  PreparedProfile pp = prepare_zones(profile);
+  pp.ccm_bits.assign(256 * 256 / 64, 0);
+  for (std::size_t k = 0; k < profile.ccm.size(); ++k)
+    pp.ccm_bits[k >> 6] |= static_cast<std::uint64_t>(profile.ccm[k] > 0.0) << (k & 63);
+  return pp;
+}
+
+void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PencilProfile& profile,
+                      std::uint64_t seed) {
+  if (canvas.type() != CV_8UC1) throw std::invalid_argument("draw_pencil_line: canvas must be CV_8UC1");
+  // One line reads the few ccm cells it needs instead of all 512 KB of them into bits.
+  const PreparedProfile pp = prepare_zones(profile);
+  const double* ccm = profile.ccm.data();
+  draw_line(canvas, path, pp, [ccm](int i, int j) { return ccm[i * 256 + j] > 0.0; }, seed);
+}
+
+void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PreparedProfile& profile,
+                      std::uint64_t seed) {
+  if (canvas.type() != CV_8UC1) throw std::invalid_argument("draw_pencil_line: canvas must be CV_8UC1");
+  if (profile.ccm_bits.size() != 256 * 256 / 64)
+    throw std::invalid_argument("draw_pencil_line: the profile was not made by prepare()");
+  draw_line(canvas, path, profile, [&profile](int i, int j) { return profile.occurs(i, j); }, seed);
 }
 
 }  // namespace atelier::pencil
