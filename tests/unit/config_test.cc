@@ -125,7 +125,7 @@ TEST(Config, ALaserWaitsForTheOperatorAndTakesOnlyLaserKinds) {
   ASSERT_EQ(c.devices.size(), 1u);
   EXPECT_FALSE(c.devices[0].autostart);
   // Every laser kind this build converts.
-  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"cut", "parquetry"}));
+  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"cut", "parquetry", "sketch"}));
   EXPECT_EQ(c.devices[0].streaming, "character-counting");
   EXPECT_FALSE(c.laser_check_first);
 
@@ -139,6 +139,16 @@ TEST(Config, ALaserWaitsForTheOperatorAndTakesOnlyLaserKinds) {
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"laser\"\ndriver = \"grbl\"\n"
                "port = \"/dev/ttyUSB0\"\nstreaming = \"fast\"\n");
   EXPECT_NE(e.find("streaming"), std::string::npos) << e;
+}
+
+TEST(Config, ASketchPencilFileIsRelativeToTheConfigAndAGradeIsChecked) {
+  Config c = parse_config("[spool]\ndir = \"/s\"\n[sketch]\npencil = \"pencils/mine.toml\"\n", "/etc/atelier/a.toml");
+  EXPECT_EQ(c.kind_defaults["sketch"]["pencil"].value_or(std::string{}), "/etc/atelier/pencils/mine.toml");
+  c = parse_config("[spool]\ndir = \"/s\"\n[sketch]\npencil = \"6b\"\n", "/etc/atelier/a.toml");
+  EXPECT_EQ(c.kind_defaults["sketch"]["pencil"].value_or(std::string{}), "6b");  // a grade, not a file
+  const std::string e = error_of("[spool]\ndir = \"/s\"\n[sketch]\npencil = \"9B\"\n");
+  EXPECT_NE(e.find(":4: key 'pencil'"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown pencil '9B'"), std::string::npos) << e;
 }
 
 TEST(Config, TheLaserSectionIsCheckedAndHandedToTheLaserKinds) {
