@@ -198,6 +198,7 @@ int run_pencil_profile(int argc, char** argv) {
     const std::string name = r.get_string("name", reference.empty() ? out.stem().string() : "");
     const int threshold = static_cast<int>(r.get_int("paper_threshold", 245, 1, 255));
     r.finish();
+    if (name.empty() && reference.empty()) r.fail("name", "must not be empty");
     cv::Mat grey;
     std::string source;
     std::string profile_name = name;
