@@ -58,12 +58,13 @@ SketchDrawing draw_sketch(cv::Size image_size, double scale, const std::vector<S
   const std::size_t total = strokes.size() + hatching.size();
   d.lines.reserve(total);
   const std::size_t report_every = std::max<std::size_t>(1, total / 50);
+  const PreparedProfile pencil = prepare(profile);  // once for all the lines
   for (std::size_t i = 0; i < total; ++i) {
     const bool hatch = i >= strokes.size();
     const Segment& s = hatch ? hatching[i - strokes.size()] : strokes[i];
     const std::uint64_t ls = line_seed(seed, i);
     HumanPath hp = human_path(s.from * scale, s.to * scale, path_params, ls);
-    draw_pencil_line(d.canvas, hp.path, profile, ls);
+    draw_pencil_line(d.canvas, hp.path, pencil, ls);
     d.lines.push_back({std::move(hp.path), hatch});
     if (progress && (i + 1) % report_every == 0) progress(static_cast<double>(i + 1) / total);
   }
