@@ -38,14 +38,15 @@ struct StrokeParams {
 // std::invalid_argument for an empty image or another type.
 cv::Mat on_white_paper(const cv::Mat& image);
 
-// The automatic Canny thresholds for a smoothed CV_8UC1 or CV_8UC3 image: `high` is 0.8 x the
+// The automatic Canny thresholds for a smoothed CV_8UC1 or CV_8UC3 image: `high` is half the
 // median gradient magnitude (3x3 Sobel, L2, the largest over the channels -- what cv::Canny
 // measures) of the pixels whose magnitude exceeds a noise floor of a 16-grey-level step (64),
 // and at least twice that floor; `low` is high / 2. Medians follow the image: a line drawing's
-// crisp edges give high thresholds that ignore paper grain, a soft photograph lower ones. (0.8,
-// not 1: on a crisp drawing the edges' ridge pixels all have the median magnitude, and Canny
-// keeps only pixels strictly above `high`.) An image with no gradient above the floor gets
-// (64, 128) and, having nothing that strong, no edges.
+// crisp edges give high thresholds that ignore paper grain and JPEG ringing, a soft photograph
+// lower ones. (Half: the crisp black-on-white edges of a drawing set the median, and its softer
+// colour edges must still pass; and Canny keeps only pixels strictly above `high`, while on a
+// crisp drawing all ridge pixels sit at the median.) An image with no gradient above the floor
+// gets (64, 128) and, having nothing that strong, no edges.
 cv::Vec2d auto_canny_thresholds(const cv::Mat& smoothed);
 
 // CV_8UC1 0/255: Canny edges (1 px wide) after the bilateral smoothing. Colour images are
