@@ -48,13 +48,13 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
 
 // The grey levels [lo, hi] of a histogram and their cumulative weights (cdf[v - lo] is the
 // weight of lo..v; total = cdf[hi - lo]); total 0 means "sample uniformly". guide[k] is the first
-// i with cdf[i] > k * total / 256, where the search for a sampled weight starts (an inverse-cdf
+// i with cdf[i] > k * total / 1024, where the search for a sampled weight starts (an inverse-cdf
 // table that leaves the result exactly that of a binary search).
 struct GreyRange {
   int lo = 0, hi = 0;
   double total = 0.0;
   std::array<double, 256> cdf{};
-  std::array<std::uint16_t, 256> guide{};
+  std::array<std::uint16_t, 1024> guide{};
 };
 
 // What draw_pencil_line derives from a profile, computed once: the three zones' samplers, the
