@@ -42,7 +42,7 @@ double canonical(std::mt19937_64& rng) {
 
 // A value of `range` from its quantile band [q0, q1] (0 = its darkest, 1 = its lightest); uniform
 // over the range when its histogram is empty there.
-int sample(const GreyRange& range, std::mt19937_64& rng, double q0 = 0.0, double q1 = 1.0) {
+inline int sample(const GreyRange& range, std::mt19937_64& rng, double q0 = 0.0, double q1 = 1.0) {
   const double u = canonical(rng) * (q1 - q0) + q0;
   const int span = range.hi - range.lo;
   if (range.total <= 0.0) return range.lo + std::min(span, static_cast<int>(u * (span + 1)));
@@ -223,8 +223,12 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
       // nearest and be line (the others keep their distance, and no line pixel is missed).
       double from = 0, to = 0;
       if (!strip.row(py, from, to)) continue;
-      const int xa = std::max(c.x0, static_cast<int>(std::floor(std::max(c.a.x + from - kSlackPx, -1e9))) - roi.x);
-      const int xb = std::min(c.x1, static_cast<int>(std::ceil(std::min(c.a.x + to + kSlackPx, 1e9))) - roi.x);
+      // Region columns; floor and ceil by truncation (the plain build has no SSE4.1 rounding),
+      // one column wider, which only evaluates a pixel more.
+      const double first = std::max(c.a.x + from - kSlackPx - roi.x, -1.0);
+      const double last = std::min(c.a.x + to + kSlackPx - roi.x, static_cast<double>(width));
+      const int xa = std::max(c.x0, static_cast<int>(first) - 1);
+      const int xb = std::min(c.x1, static_cast<int>(last) + 1);
       const float fy_aby = fy * aby;
       int x = xa;
 #if CV_SIMD128
@@ -273,10 +277,11 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
   pixels.reserve(static_cast<std::size_t>(pts.size() * kChordPx * (2.0 * half + 2.0)) + 16);
   const double near_px = inner - 0.5, far_px = half - inner;
   const double near_band = band_of(near_px), far_band = band_of(far_px);
+  const float line_d2 = static_cast<float>(half * half);
   for (int y = 0; y < height; ++y) {
     for (int x = lo[y]; x <= hi[y]; ++x) {
       const int cell = base[y] + x;
-      if (dist[cell] > half * half) continue;
+      if (dist[cell] > line_d2) continue;
       const double d = std::sqrt(static_cast<double>(dist[cell]));
       pixels.push_back({x, y, cell});
       if (d <= 0.5) {
