@@ -395,9 +395,9 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
 
 PreparedProfile prepare(const PencilProfile& profile) {
   PreparedProfile pp = prepare_zones(profile);
-  pp.ccm_bits.assign(256 * 256 / 64, 0);
+  pp.ccm_occurs.assign(256 * 256, 0);
   for (std::size_t k = 0; k < profile.ccm.size(); ++k)
-    pp.ccm_bits[k >> 6] |= static_cast<std::uint64_t>(profile.ccm[k] > 0.0) << (k & 63);
+    pp.ccm_occurs[k] = profile.ccm[k] > 0.0;
   return pp;
 }
 
@@ -413,7 +413,7 @@ void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, con
 void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PreparedProfile& profile,
                       std::uint64_t seed) {
   if (canvas.type() != CV_8UC1) throw std::invalid_argument("draw_pencil_line: canvas must be CV_8UC1");
-  if (profile.ccm_bits.size() != 256 * 256 / 64)
+  if (profile.ccm_occurs.size() != 256 * 256)
     throw std::invalid_argument("draw_pencil_line: the profile was not made by prepare()");
   draw_line(canvas, path, profile, [&profile](int i, int j) { return profile.occurs(i, j); }, seed);
 }

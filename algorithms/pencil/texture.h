@@ -9,8 +9,8 @@
 // share one.
 //
 // Cost: proportional to the line's pixels (length x width), not to its bounding box; a 200 px
-// line of a 7 px pencil takes ~0.1 ms (bench/pencil_bench.cc). Sketch jobs prepare() each
-// pencil once and draw all their lines with the PreparedProfile overload.
+// line of a 7 px pencil takes ~0.23-0.25 ms on the 2-core box (bench/pencil_bench.cc). Sketch
+// jobs prepare() each pencil once and draw all their lines with the PreparedProfile overload.
 #pragma once
 
 #include <array>
@@ -58,8 +58,8 @@ struct GreyRange {
 };
 
 // What draw_pencil_line derives from a profile, computed once: the three zones' samplers, the
-// zone widths and which ccm pairs occur, as a bit set (8 KB that stay in cache; the profile's
-// 512 KB of doubles do not). Owns its data (no reference to the profile is kept).
+// zone widths and which ccm pairs occur, a byte each (64 KB; the pairs a line meets cluster
+// around its grey levels, so few cache lines of it are in use). Owns its data (no reference to the profile is kept).
 struct PreparedProfile {
   double half = 0.5;   // half the line width (px), >= 0.5
   double inner = 0.5;  // the near zone ends this far from the path (px), in [0.5, half]
@@ -68,12 +68,9 @@ struct PreparedProfile {
   GreyRange far;       // hist over [max_mid, max_range]
   // Per zone (0 paper, 1 centre, 2 near, 3 far) the levels a pixel may take.
   std::array<int, 4> zone_lo{0, 0, 0, 0}, zone_hi{255, 255, 255, 255};
-  std::vector<std::uint64_t> ccm_bits;  // 1024 words: bit i * 256 + j set when ccm[i * 256 + j] > 0
+  std::vector<std::uint8_t> ccm_occurs;  // 256 x 256: 1 where ccm[i * 256 + j] > 0, else 0
   // Whether the pair (upper i, lower j) occurs in the profile's ccm.
-  bool occurs(int i, int j) const {
-    const unsigned k = static_cast<unsigned>(i) * 256u + static_cast<unsigned>(j);
-    return (ccm_bits[k >> 6] >> (k & 63)) & 1u;
-  }
+  bool occurs(int i, int j) const { return ccm_occurs[static_cast<unsigned>(i) * 256u + static_cast<unsigned>(j)] != 0; }
 };
 
 // Prepares `profile` for drawing. Throws std::invalid_argument for a profile without 256-bin
