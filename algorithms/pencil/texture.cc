@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <opencv2/core/hal/intrin.hpp>
@@ -123,7 +122,7 @@ struct Strip {
 // width must not fall outside them.
 constexpr double kSlackPx = 1e-4;
 
-// Everything of a PreparedProfile but the ccm bits: cheap enough to make for a single line.
+// Everything of a PreparedProfile but the ccm table: cheap enough to make for a single line.
 PreparedProfile prepare_zones(const PencilProfile& profile) {
   if (profile.mid_hist.size() != 256 || profile.hist.size() != 256 || profile.ccm.size() != 256 * 256)
     throw std::invalid_argument("draw_pencil_line: profile needs 256-bin histograms and a 256 x 256 ccm");
@@ -404,7 +403,7 @@ PreparedProfile prepare(const PencilProfile& profile) {
 void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PencilProfile& profile,
                       std::uint64_t seed) {
   if (canvas.type() != CV_8UC1) throw std::invalid_argument("draw_pencil_line: canvas must be CV_8UC1");
-  // One line reads the few ccm cells it needs instead of all 512 KB of them into bits.
+  // One line reads the few ccm cells it needs rather than all 512 KB of them into a table.
   const PreparedProfile pp = prepare_zones(profile);
   const double* ccm = profile.ccm.data();
   draw_line(canvas, path, pp, [ccm](int i, int j) { return ccm[i * 256 + j] > 0.0; }, seed);

@@ -58,8 +58,8 @@ struct GreyRange {
 };
 
 // What draw_pencil_line derives from a profile, computed once: the three zones' samplers, the
-// zone widths and which ccm pairs occur, a byte each (64 KB; the pairs a line meets cluster
-// around its grey levels, so few cache lines of it are in use). Owns its data (no reference to the profile is kept).
+// zone widths and which ccm pairs occur, a byte each (64 KB, against the ccm's 512 KB of
+// doubles). Owns its data (keeps no reference to the profile).
 struct PreparedProfile {
   double half = 0.5;   // half the line width (px), >= 0.5
   double inner = 0.5;  // the near zone ends this far from the path (px), in [0.5, half]
@@ -77,9 +77,9 @@ struct PreparedProfile {
 // histograms and a 256 x 256 ccm.
 PreparedProfile prepare(const PencilProfile& profile);
 
-// draw_pencil_line with a prepared profile: the same pixels as the overload above (which calls
-// this one), without re-deriving the profile per line. Throws std::invalid_argument for a canvas
-// that is not CV_8UC1 or a non-finite path point.
+// draw_pencil_line with a prepared profile: the same pixels as the overload above (both run the
+// same code), without re-deriving the profile per line. Throws std::invalid_argument for a canvas
+// that is not CV_8UC1, a non-finite path point, or a profile not made by prepare().
 void draw_pencil_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const PreparedProfile& profile,
                       std::uint64_t seed);
 
