@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/core/hal/intrin.hpp>
-#include <opencv2/imgproc.hpp>
 #include <random>
 #include <stdexcept>
 
