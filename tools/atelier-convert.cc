@@ -224,7 +224,16 @@ int run_pencil_profile(int argc, char** argv) {
       throw ConvertError(files.front() + ": no pencil line found (darker than " + std::to_string(threshold) +
                          " on white paper)");
     }
-    atelier::write_output(out, atelier::profile_to_toml(profile, source));
+    // Never write a profile that sketch and line jobs would refuse: a scan that is all line (no
+    // paper beside it) gives one run as wide as the scan, wider than any pencil line.
+    const std::string text = atelier::profile_to_toml(profile, source);
+    try {
+      atelier::profile_from_toml(text, out.string());
+    } catch (const ConvertError& e) {
+      throw ConvertError(files.front() + ": the profile learned from it would be unusable (is there white paper "
+                         "beside the lines?): " + e.what());
+    }
+    atelier::write_output(out, text);
     std::cout << profile.name << ": centre " << profile.min_mid << ".." << profile.max_mid << ", line "
               << profile.min_range << ".." << profile.max_range << ", width " << profile.width_px << " px, "
               << profile.line_pixels << " line pixels -> " << out.string() << "\n";

@@ -102,6 +102,10 @@ class ProfileReader {
       auto v = n.value_exact<int64_t>();
       if (!v) fail_at(n, key, "grey level " + std::to_string(i) + ": expected a whole count");
       if (*v < 0) fail_at(n, key, "grey level " + std::to_string(i) + ": count " + std::to_string(*v) + " is negative");
+      // No count above the total (so the sum below cannot overflow and wrap round to it).
+      if (*v > total)
+        fail_at(n, key, "grey level " + std::to_string(i) + ": count " + std::to_string(*v) + " is more than the " +
+                            std::to_string(total) + " pixels stated");
       sum += *v;
       out[i] = static_cast<double>(*v);
     }

@@ -92,7 +92,34 @@ std::string lines_svg(const pencil::SketchDrawing& drawing, double width_mm, dou
   return s.str();
 }
 
-// The drawing's paths in design mm (x right, y down from the bed's rear-left corner).
+// The parts of `path` (drawing px) inside [0, cols] x [0, rows]: a hand-drawn line near the
+// drawing's edge may wander past it, which the preview clips and the engraving must too (else a
+// drawing placed at the bed's edge leaves the work area). cv::clipLine takes integer points:
+// 1/1024 px is far finer than the laser's tolerance.
+std::vector<std::vector<cv::Point2d>> clipped_to(const std::vector<cv::Point2d>& path, int cols, int rows) {
+  constexpr double kFixed = 1024;
+  const cv::Size2l box(static_cast<int64_t>(cols * kFixed) + 1, static_cast<int64_t>(rows * kFixed) + 1);
+  auto fixed = [](cv::Point2d q) {
+    return cv::Point2l(std::llround(q.x * kFixed), std::llround(q.y * kFixed));
+  };
+  std::vector<std::vector<cv::Point2d>> parts;
+  bool open = false;  // the last part ends at the previous point
+  for (size_t i = 1; i < path.size(); ++i) {
+    cv::Point2l a = fixed(path[i - 1]), b = fixed(path[i]);
+    const cv::Point2l b0 = b;
+    if (!cv::clipLine(box, a, b)) {
+      open = false;
+      continue;
+    }
+    if (!open) parts.push_back({cv::Point2d(a.x / kFixed, a.y / kFixed)});
+    parts.back().emplace_back(b.x / kFixed, b.y / kFixed);
+    open = b == b0;  // the segment ended inside, so the next one continues this part
+  }
+  return parts;
+}
+
+// The drawing's paths in design mm (x right, y down from the bed's rear-left corner), clipped
+// to the drawing (width_mm wide at position_mm).
 laser::Layer engrave_layer(const pencil::SketchDrawing& drawing, const SketchParams& p,
                            const std::string& pencil, double power_pct) {
   laser::Layer layer;
@@ -104,13 +131,15 @@ laser::Layer engrave_layer(const pencil::SketchDrawing& drawing, const SketchPar
   layer.settings.passes = 1;
   const double mm_per_px = p.width_mm / drawing.canvas.cols;
   for (const auto& line : drawing.lines) {
-    std::vector<cv::Point2d> mm;
-    mm.reserve(line.path.size());
-    for (const auto& q : line.path)
-      mm.emplace_back(p.position_x_mm + q.x * mm_per_px, p.position_y_mm + q.y * mm_per_px);
-    laser::Path path;
-    for (const auto& q : simplified(mm, p.laser.tolerance_mm)) path.points.push_back({q.x, q.y});
-    if (path.points.size() >= 2) layer.paths.push_back(std::move(path));
+    for (const auto& part : clipped_to(line.path, drawing.canvas.cols, drawing.canvas.rows)) {
+      std::vector<cv::Point2d> mm;
+      mm.reserve(part.size());
+      for (const auto& q : part)
+        mm.emplace_back(p.position_x_mm + q.x * mm_per_px, p.position_y_mm + q.y * mm_per_px);
+      laser::Path path;
+      for (const auto& q : simplified(mm, p.laser.tolerance_mm)) path.points.push_back({q.x, q.y});
+      if (path.points.size() >= 2) layer.paths.push_back(std::move(path));
+    }
   }
   return layer;
 }

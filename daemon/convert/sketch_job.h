@@ -6,7 +6,9 @@
 //                  hatching in their own groups, graphite grey #3c3c3c (a colour no laser layer
 //                  has by default, so the file is never cut by mistake as a `cut` job)
 //   engrave.gcode  the same paths as one engrave layer (algorithms/laser/plan.h), width_mm wide at
-//                  position_mm on the bed; power by pencil grade unless power_pct is set
+//                  position_mm on the bed, clipped to that rectangle as the preview is to its
+//                  canvas (a line near the edge may wander past it); power by pencil grade
+//                  unless power_pct is set
 //   report.json    parameters, pencil, counts, lengths, engraving, timings
 // Parameters: sketch_params.h. Not thread-safe per request; separate requests may run at once.
 #pragma once

@@ -56,7 +56,8 @@ SketchParams read_sketch_params(const toml::table& params, const std::string& so
   if (const toml::array* pos = r.get_array("position_mm")) {
     auto x = pos->size() == 2 ? pos->get(0)->value<double>() : std::nullopt;
     auto y = pos->size() == 2 ? pos->get(1)->value<double>() : std::nullopt;
-    if (!x || !y || *x < 0 || *y < 0 || *x > 5000 || *y > 5000)
+    // Written so that NaN fails too (a NaN position hung the laser planner).
+    if (!x || !y || !(*x >= 0 && *x <= 5000) || !(*y >= 0 && *y <= 5000))
       r.fail("position_mm", "expected [x, y] in mm, each 0..5000");
     p.position_x_mm = *x;
     p.position_y_mm = *y;
