@@ -201,5 +201,43 @@ TEST_F(ConvertSketchTest, BadInputsAndParametersAreClearErrors) {
   EXPECT_THROW(run(dir_ / "text.png"), ConvertError);
 }
 
+// A drawing at the bed's corner: hand-drawn lines wander past the drawing's edge by up to the
+// squiggle, and the engraving once left the work area there (the job failed at X -0.29 mm).
+TEST_F(ConvertSketchTest, AnEngravingAtTheBedsCornerStaysInsideTheDrawingAndTheBed) {
+  // All dark: hatch lines run right up to every edge.
+  cv::imwrite((dir_ / "dark.png").string(), cv::Mat(200, 300, CV_8UC1, cv::Scalar(20)));
+  struct Corner {
+    const char* position;
+    double x0, y0;
+  };
+  for (const Corner& c : {Corner{"[0, 0]", 0, 0}, Corner{"[300, 333.333]", 300, 333.333}}) {
+    SCOPED_TRACE(c.position);
+    const std::string out = "at" + std::to_string(static_cast<int>(c.x0));
+    const ConvertResult r =
+        run(dir_ / "dark.png", std::string("hatching = true\nwidth_mm = 100\nposition_mm = ") + c.position + "\n", out);
+    EXPECT_GT(r.report["hatch_lines"].get<int>(), 20);
+    const grbl::Program prog = grbl::parse_program(slurp(dir_ / out / "engrave.gcode"), 6000);
+    ASSERT_TRUE(prog.bounds);
+    // Design x in [x0, x0 + 100], y in [y0, y0 + 66.667] on a 400 mm front-left bed (Y = 400 - y).
+    EXPECT_GE(prog.bounds->min_x, c.x0 - 1e-3);
+    EXPECT_LE(prog.bounds->max_x, c.x0 + 100 + 1e-3);
+    EXPECT_GE(prog.bounds->min_y, 400 - c.y0 - 66.667 - 1e-3);
+    EXPECT_LE(prog.bounds->max_y, 400 - c.y0 + 1e-3);
+    EXPECT_GT(prog.bounds->width(), 99) << "clipped, not dropped: the engraving still fills the drawing";
+  }
+}
+
+// position_mm = [nan, 3] once passed the range check and hung the laser planner.
+TEST_F(ConvertSketchTest, ANonNumberPositionIsRefusedNamingTheKey) {
+  for (const char* pos : {"[nan, 3]", "[3, nan]", "[inf, 3]", "[3, -inf]"}) {
+    try {
+      run(kData / "pic1.png", std::string("position_mm = ") + pos + "\n");
+      FAIL() << pos << " was accepted";
+    } catch (const ParamError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("test.toml:1: key 'position_mm'")) << pos;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace atelier

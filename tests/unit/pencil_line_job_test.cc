@@ -244,5 +244,15 @@ TEST_F(PencilConvertTool, DrawsALine) {
   EXPECT_THAT(slurp(dir_ / "stdout.txt"), HasSubstr("pencil-profile"));
 }
 
+// A scan that is all line (no paper beside it) once gave a profile 1200 px wide, written and then
+// refused by every job that named it.
+TEST_F(PencilConvertTool, RefusesToLearnFromAScanThatIsAllLine) {
+  ASSERT_TRUE(cv::imwrite((dir_ / "dark.png").string(), cv::Mat(50, 1200, CV_8UC1, cv::Scalar(0))));
+  EXPECT_EQ(tool("pencil-profile " + q(dir_ / "dark.png") + " " + q(dir_ / "dark.toml")), 1);
+  EXPECT_THAT(err(), HasSubstr("dark.png: the profile learned from it would be unusable"));
+  EXPECT_THAT(err(), HasSubstr("width_px"));
+  EXPECT_FALSE(fs::exists(dir_ / "dark.toml")) << "an unusable profile was written";
+}
+
 }  // namespace
 }  // namespace atelier

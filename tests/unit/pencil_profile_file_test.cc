@@ -250,5 +250,22 @@ TEST(PencilProfileFile, PencilParameterTakesAGradeOrAProfileFile) {
   fs::remove_all(dir);
 }
 
+// Counts are added in 64 bits: four of 2^62 add up to 2^64, which wrapped round to the stated
+// total, and such a file was accepted.
+TEST(PencilProfileFile, CountsAboveTheirTotalAreRefused) {
+  std::string text = profile_to_toml(learned(), "lines.png");
+  const std::string huge = " 4611686018427387904,";
+  text = replaced(text, "mid_hist = [\n ", "mid_hist = [\n " + huge + huge + huge + huge);
+  // ... and the last four counts (grey levels 252..255: no centre is that light) dropped, so that
+  // there are still 256. The array's last line is "  c240, ..., c255,  # 240..255".
+  const auto end = text.find("  # 240..255\n]", text.find("mid_hist = ["));
+  ASSERT_NE(end, std::string::npos);
+  auto cut = end;
+  for (int k = 0; k < 5; ++k) cut = text.rfind(',', cut - 1);
+  ASSERT_EQ(text.substr(cut, end - cut), ", 0, 0, 0, 0,") << "the last counts are not zeros";
+  text.erase(cut + 1, end - cut - 1);
+  EXPECT_THAT(read_error(text), HasSubstr("key 'mid_hist': grey level 0: count 4611686018427387904 is more than"));
+}
+
 }  // namespace
 }  // namespace atelier
