@@ -20,7 +20,10 @@ namespace atelier {
 namespace {
 
 constexpr int kLevels = 256;
-constexpr std::uintmax_t kMaxProfileBytes = 16u << 20;
+// The largest profile profile_to_toml can write (all 65536 ccm cells, 13-digit counts) is under
+// 2 MiB; TOML parsing costs ~40 bytes of memory per byte of text (a 15 MiB file of one long
+// array took 630 MB), so anything much larger is refused before parsing.
+constexpr std::uintmax_t kMaxProfileBytes = 4u << 20;
 
 // The shortest text that reads back as exactly `v`, always with a '.' or exponent (TOML float).
 std::string exact_double(double v) {

@@ -39,7 +39,8 @@ std::string profile_to_toml(const pencil::PencilProfile& profile, const std::str
 // ConvertError "SOURCE:LINE: key 'K': problem" (or "SOURCE:LINE: " + the TOML syntax error).
 pencil::PencilProfile profile_from_toml(std::string_view text, const std::string& source);
 
-// Reads a profile file (at most 16 MiB). Throws ConvertError naming the file.
+// Reads a profile file (at most 4 MiB: twice the largest profile_to_toml writes). Throws
+// ConvertError naming the file.
 pencil::PencilProfile load_profile_file(const std::filesystem::path& file);
 
 // The grades that ship with atelier, light to dark: {"2H", "H", "F", "HB", "B", "3B", "6B", "8B"}

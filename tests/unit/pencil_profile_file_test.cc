@@ -267,5 +267,29 @@ TEST(PencilProfileFile, CountsAboveTheirTotalAreRefused) {
   EXPECT_THAT(read_error(text), HasSubstr("key 'mid_hist': grey level 0: count 4611686018427387904 is more than"));
 }
 
+// Reading is bounded: the largest profile that can be written (every ccm cell, the largest
+// counts) reads back, and a file over 4 MiB is refused before parsing (a 15 MiB file of one long
+// array took 630 MB to parse).
+TEST(PencilProfileFile, TheLargestProfileReadsBackAndOversizedFilesAreRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("pencil-profile-size-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  PencilProfile p = learned();
+  p.ccm_pairs = (int64_t{1} << 40) * 65536;
+  p.ccm.assign(65536, 1.0 / 65536);
+  const std::string text = profile_to_toml(p, "lines.png");
+  { std::ofstream(dir / "largest.toml") << text; }
+  EXPECT_GT(text.size(), 1u << 20);
+  expect_same(load_profile_file(dir / "largest.toml"), p);
+  { std::ofstream(dir / "padded.toml") << text << "#" << std::string(4u << 20, 'x') << "\n"; }
+  try {
+    load_profile_file(dir / "padded.toml");
+    ADD_FAILURE() << "a file over 4 MiB was read";
+  } catch (const ConvertError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("padded.toml: "));
+    EXPECT_THAT(e.what(), HasSubstr("too large for a pencil profile"));
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace atelier
