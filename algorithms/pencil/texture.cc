@@ -163,15 +163,32 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
   if (roi.empty()) return;
   const int width = roi.width, height = roi.height;
 
-  // Chords of >= kChordPx between kept samples: a spline sampled every 0.5 px is smooth enough that
-  // they stray from it by far less than a pixel, and the distance work below shrinks fourfold.
-  constexpr double kChordPx = 2.0;
+  // Chords through the path's samples: from each kept sample the farthest later one, at most
+  // kMaxChordPx away, with every sample in between within kChordTolPx of the chord. Straight
+  // stretches take few chords (the distance work below is per chord), tight turns are followed
+  // (fixed 2 px chords cut the hooks at some lines' ends by up to a pixel).
+  constexpr double kMaxChordPx = 6.0, kChordTolPx = 0.1;
   std::vector<cv::Point2d> pts;
-  pts.reserve(path.size() / 2 + 2);
+  pts.reserve(path.size() / 4 + 2);
   pts.push_back(path.front());
-  for (std::size_t i = 1; i + 1 < path.size(); ++i)
-    if (cv::norm(path[i] - pts.back()) >= kChordPx) pts.push_back(path[i]);
-  if (path.size() > 1) pts.push_back(path.back());
+  for (std::size_t a = 0; a + 1 < path.size();) {
+    std::size_t b = a + 1;
+    for (std::size_t c = b + 1; c < path.size(); b = c++) {
+      const cv::Point2d ac = path[c] - path[a];
+      const double len2 = ac.dot(ac);
+      if (len2 > kMaxChordPx * kMaxChordPx) break;
+      // The samples in the middle and next to c stand for all in between (the path is a smooth
+      // spline: within a few pixels it bends one way, farthest from the chord in the middle).
+      auto near_chord = [&](std::size_t m) {
+        const cv::Point2d am = path[m] - path[a];
+        const double across = ac.x * am.y - ac.y * am.x, along = ac.dot(am);
+        return across * across <= kChordTolPx * kChordTolPx * len2 && along >= 0.0 && along <= len2;
+      };
+      if (!near_chord((a + c) / 2) || !near_chord(c - 1)) break;
+    }
+    pts.push_back(path[b]);
+    a = b;
+  }
 
   // The cells worked on, row by row (region coordinates): row y holds x in [lo[y], hi[y]], the
   // union of the chords' boxes grown by one pixel (so every 3x3 neighbour of a line pixel inside
@@ -272,7 +289,7 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
   // Cells that are not line stay paper (255), which the blur reads.
   std::vector<std::uint8_t> val(cells, 255), zone(cells, 0);
   std::vector<LinePixel> pixels;  // the line's pixels in row-major order
-  pixels.reserve(static_cast<std::size_t>(pts.size() * kChordPx * (2.0 * half + 2.0)) + 16);
+  pixels.reserve(static_cast<std::size_t>(path.size() * 0.5 * (2.0 * half + 2.0)) + 16);
   const double near_px = inner - 0.5, far_px = half - inner;
   const double near_band = band_of(near_px), far_band = band_of(far_px);
   const float line_d2 = static_cast<float>(half * half);
