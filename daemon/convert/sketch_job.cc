@@ -29,13 +29,18 @@ double ms_since(Clock::time_point t) {
   return round3(std::chrono::duration<double, std::milli>(Clock::now() - t).count());
 }
 
-// An 8-bit grey, BGR or BGRA image, as the stroke finder takes it.
+// An 8-bit grey, BGR or BGRA image, as the stroke finder takes it. Decoders give 16-bit PNGs and
+// TIFFs as 0..65535 and float TIFFs as 0..1 (a float drawing read as 0/1 grey levels was all
+// black: no edges, and hatched all over).
 cv::Mat eight_bit(const cv::Mat& image, const std::string& name) {
   if (image.channels() == 2 || image.channels() > 4)
     throw ConvertError(name + ": expected a grey, colour or colour+alpha image");
   if (image.depth() == CV_8U) return image;
+  const bool floating = image.depth() == CV_32F || image.depth() == CV_64F;
+  if (image.depth() != CV_16U && !floating)
+    throw ConvertError(name + ": expected 8- or 16-bit or floating-point pixels");
   cv::Mat out;
-  image.convertTo(out, CV_8U, image.depth() == CV_16U ? 1.0 / 257 : 1.0);
+  image.convertTo(out, CV_8U, floating ? 255.0 : 1.0 / 257);
   return out;
 }
 

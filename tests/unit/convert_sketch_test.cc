@@ -239,5 +239,28 @@ TEST_F(ConvertSketchTest, ANonNumberPositionIsRefusedNamingTheKey) {
   }
 }
 
+// Decoders give a float TIFF's pixels as 0..1: once read as grey levels 0 and 1, a drawing was
+// all black (no edges; hatched all over). 16-bit and float pixels draw as their 8-bit image does.
+TEST_F(ConvertSketchTest, SixteenBitAndFloatImagesDrawAsTheirEightBitImage) {
+  cv::Mat eight(200, 300, CV_8UC1, cv::Scalar(255));
+  cv::rectangle(eight, {50, 50}, {250, 150}, cv::Scalar(0), 3);
+  cv::Mat sixteen, floating;
+  eight.convertTo(sixteen, CV_16U, 257);
+  eight.convertTo(floating, CV_32F, 1.0 / 255);
+  ASSERT_TRUE(cv::imwrite((dir_ / "eight.png").string(), eight));
+  ASSERT_TRUE(cv::imwrite((dir_ / "sixteen.png").string(), sixteen));
+  ASSERT_TRUE(cv::imwrite((dir_ / "floating.tiff").string(), floating));
+  ASSERT_EQ(cv::imread((dir_ / "floating.tiff").string(), cv::IMREAD_UNCHANGED).depth(), CV_32F);
+  const ConvertResult want = run(dir_ / "eight.png", "hatching = true\n", "eight");
+  EXPECT_GE(want.report["strokes"].get<int>(), 4);
+  EXPECT_LE(want.report["hatch_lines"].get<int>(), 2) << "the white page is not hatched";
+  for (const char* other : {"sixteen.png", "floating.tiff"}) {
+    SCOPED_TRACE(other);
+    const std::string out = std::string("out-") + other;
+    run(dir_ / other, "hatching = true\n", out);
+    EXPECT_EQ(slurp(dir_ / out / "lines.svg"), slurp(dir_ / "eight" / "lines.svg"));
+  }
+}
+
 }  // namespace
 }  // namespace atelier
