@@ -280,7 +280,7 @@ int run_line(int argc, char** argv) {
     toml::table overrides;
     for (const auto& s : sets) atelier::apply_set(overrides, s);
     atelier::merge_into(params, overrides);
-    atelier::convert_line(params, "parameters", output_dir, limits);
+    atelier::convert_line(params, "--set", output_dir, limits);  // its only parameters: name them as the kinds do
   } catch (const ConvertError& e) {
     return input_error(e.what());
   } catch (const ParamError& e) {

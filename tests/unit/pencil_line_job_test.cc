@@ -237,7 +237,7 @@ TEST_F(PencilConvertTool, DrawsALine) {
       << err();
 
   EXPECT_EQ(tool("line - " + q(dir_ / "bad") + " --set from=1,x --set to=5,5"), 1);
-  EXPECT_THAT(err(), HasSubstr("'from'"));
+  EXPECT_THAT(err(), HasSubstr("error: --set: key 'from'")) << "named as the kinds name --set errors";
   EXPECT_EQ(tool("line " + q(dir_ / "scan.png") + " " + q(dir_ / "bad")), 2) << "INPUT must be -";
   EXPECT_EQ(tool("line -"), 2);
   EXPECT_EQ(tool("--help"), 0);
