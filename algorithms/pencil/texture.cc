@@ -223,7 +223,7 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
   // In float, with 32-bit codes, so that four pixels go at a time; a pixel's distance is off by
   // ~1e-6 px at most, far below anything the zones or the texture can show.
   std::vector<float> dist(cells, 1e9f);
-  std::vector<std::int32_t> along(cells, 5);
+  std::vector<std::int32_t> along(cells, 0);  // every line pixel gets its nearest chord's code
   for (const Chord& c : chords) {
     const Strip strip(c.ab, half);
     const float abx = static_cast<float>(c.ab.x), aby = static_cast<float>(c.ab.y);
@@ -325,11 +325,12 @@ void draw_line(cv::Mat& canvas, const std::vector<cv::Point2d>& path, const Prep
     return zone[c] != 0 ? c : paper;
   };
   // Each pixel's along-line neighbours, forward (the ccm's lower pixel) and backward.
+  constexpr std::array<int, 9> kDx{-1, -1, -1, 0, 0, 0, 1, 1, 1}, kDy{-1, 0, 1, -1, 0, 1, -1, 0, 1};
   std::vector<std::array<int, 2>> links(pixels.size());
   for (std::size_t k = 0; k < pixels.size(); ++k) {
     const LinePixel& p = pixels[k];
     const int code = along[p.cell];
-    const int dx = code / 3 - 1, dy = code % 3 - 1;
+    const int dx = kDx[code], dy = kDy[code];
     links[k] = {line_cell(p.x + dx, p.y + dy), line_cell(p.x - dx, p.y - dy)};
   }
   std::vector<std::uint8_t> dirty(cells + 1, 1);
