@@ -191,18 +191,25 @@ cv::Mat on_white_paper(const cv::Mat& image) {
 
 cv::Vec2d auto_canny_thresholds(const cv::Mat& smoothed) {
   require(smoothed.type() == CV_8UC1 || smoothed.type() == CV_8UC3, "image must be CV_8UC1 or CV_8UC3");
-  cv::Mat dx, dy, mag;
-  cv::Sobel(smoothed, dx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REPLICATE);
-  cv::Sobel(smoothed, dy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REPLICATE);
-  cv::magnitude(dx.reshape(1), dy.reshape(1), mag);  // one column per channel
-  mag = mag.reshape(smoothed.channels());
+  // In bands of rows: whole-image float gradients of a 40 Mpx colour image are 1.4 GB. A band
+  // is a view into the image, so Sobel reads the rows above and below it from the image itself
+  // (replicating only at the image's own edges): the same values as one whole-image pass.
+  constexpr int kBandRows = 256;
+  const int channels = smoothed.channels();
   std::vector<float> strong;
-  for (int y = 0; y < mag.rows; ++y) {
-    const float* row = mag.ptr<float>(y);
-    for (int x = 0; x < mag.cols; ++x) {
-      float m = 0;
-      for (int c = 0; c < smoothed.channels(); ++c) m = std::max(m, row[x * smoothed.channels() + c]);
-      if (m > kNoiseFloor) strong.push_back(m);
+  cv::Mat dx, dy, mag;
+  for (int y0 = 0; y0 < smoothed.rows; y0 += kBandRows) {
+    const cv::Mat band = smoothed.rowRange(y0, std::min(smoothed.rows, y0 + kBandRows));
+    cv::Sobel(band, dx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REPLICATE);
+    cv::Sobel(band, dy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REPLICATE);
+    cv::magnitude(dx.reshape(1), dy.reshape(1), mag);  // one column per channel
+    for (int y = 0; y < mag.rows; ++y) {
+      const float* row = mag.ptr<float>(y);
+      for (int x = 0; x < band.cols; ++x) {
+        float m = 0;
+        for (int c = 0; c < channels; ++c) m = std::max(m, row[x * channels + c]);
+        if (m > kNoiseFloor) strong.push_back(m);
+      }
     }
   }
   double high = 2 * kNoiseFloor;

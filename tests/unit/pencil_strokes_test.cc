@@ -441,5 +441,22 @@ TEST(PencilHatching, BadParametersAndImagesThrow) {
   EXPECT_THROW(hatch_lines(cv::Mat(10, 10, CV_16UC1, cv::Scalar(0)), HatchParams{}), std::invalid_argument);
 }
 
+// The automatic thresholds are worked out in bands of rows (whole-image float gradients of a
+// 40 Mpx colour image took 1.4 GB): an edge exactly between two bands (rows 255 | 256) must give
+// what the same edge gives inside a band, not the weak gradient of a band edge replicated.
+TEST(PencilStrokes, AutomaticThresholdsDoNotDependOnWhereAnEdgeLies) {
+  auto step_at = [](int row) {
+    cv::Mat img(600, 300, CV_8UC3, cv::Scalar(230, 230, 230));
+    img.rowRange(row, img.rows).setTo(cv::Scalar(90, 120, 60));
+    return img;
+  };
+  const cv::Vec2d inside = auto_canny_thresholds(step_at(156));
+  const cv::Vec2d between = auto_canny_thresholds(step_at(256));
+  EXPECT_GT(inside[1], 128) << "the step is a strong edge";
+  EXPECT_EQ(between, inside);
+  // And the edge is found there.
+  EXPECT_GT(cv::countNonZero(edge_map(step_at(256), StrokeParams{})), 250);
+}
+
 }  // namespace
 }  // namespace atelier::pencil
