@@ -1,6 +1,10 @@
 #include "algorithms/pencil/sketch.h"
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -47,27 +51,61 @@ std::pair<std::size_t, std::size_t> keep_longest(std::vector<Segment>* strokes,
 SketchDrawing draw_sketch(cv::Size image_size, double scale, const std::vector<Segment>& strokes,
                           const std::vector<Segment>& hatching, const PathParams& path_params,
                           const PencilProfile& profile, std::uint64_t seed,
-                          const std::function<void(double)>& progress) {
+                          const std::function<void(double)>& progress, int threads) {
   if (!(scale > 0) || !std::isfinite(scale)) throw std::invalid_argument("scale must be > 0");
   if (image_size.width <= 0 || image_size.height <= 0)
     throw std::invalid_argument("the image is empty");
-  SketchDrawing d;
+  if (threads < 1) throw std::invalid_argument("threads must be >= 1");
   const int cols = std::max(1, static_cast<int>(std::lround(image_size.width * scale)));
   const int rows = std::max(1, static_cast<int>(std::lround(image_size.height * scale)));
-  d.canvas = cv::Mat(rows, cols, CV_8UC1, cv::Scalar(255));
   const std::size_t total = strokes.size() + hatching.size();
-  d.lines.reserve(total);
-  const std::size_t report_every = std::max<std::size_t>(1, total / 50);
   const PreparedProfile pencil = prepare(profile);  // once for all the lines
-  for (std::size_t i = 0; i < total; ++i) {
+
+  SketchDrawing d;
+  d.lines.resize(total);
+  // Thread t draws lines [begin(t), begin(t + 1)) onto canvases[t]; the caller's thread is t = 0.
+  const std::size_t workers = std::max<std::size_t>(1, std::min<std::size_t>(threads, total));
+  auto begin = [&](std::size_t t) { return total * t / workers; };
+  std::vector<cv::Mat> canvases(workers);
+  std::atomic<std::size_t> done{0};
+  auto draw_line = [&](std::size_t i, cv::Mat& canvas) {
     const bool hatch = i >= strokes.size();
     const Segment& s = hatch ? hatching[i - strokes.size()] : strokes[i];
     const std::uint64_t ls = line_seed(seed, i);
     HumanPath hp = human_path(s.from * scale, s.to * scale, path_params, ls);
-    draw_pencil_line(d.canvas, hp.path, pencil, ls);
-    d.lines.push_back({std::move(hp.path), hatch});
-    if (progress && (i + 1) % report_every == 0) progress(static_cast<double>(i + 1) / total);
+    draw_pencil_line(canvas, hp.path, pencil, ls);
+    d.lines[i] = {std::move(hp.path), hatch};
+    return done.fetch_add(1, std::memory_order_relaxed) + 1;
+  };
+  std::vector<std::thread> pool;
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  for (std::size_t t = 1; t < workers; ++t)
+    pool.emplace_back([&, t] {
+      try {
+        canvases[t] = cv::Mat(rows, cols, CV_8UC1, cv::Scalar(255));
+        for (std::size_t i = begin(t); i < begin(t + 1); ++i) draw_line(i, canvases[t]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    });
+  try {
+    // The caller's run; progress is reported between its lines (callbacks stay on this thread).
+    canvases[0] = cv::Mat(rows, cols, CV_8UC1, cv::Scalar(255));
+    const std::size_t report_every = std::max<std::size_t>(1, total / 50);
+    for (std::size_t i = begin(0); i < begin(1); ++i) {
+      const std::size_t n = draw_line(i, canvases[0]);
+      if (progress && (i + 1) % report_every == 0) progress(static_cast<double>(n) / total);
+    }
+  } catch (...) {
+    for (auto& th : pool) th.join();
+    throw;
   }
+  for (auto& th : pool) th.join();
+  if (failure) std::rethrow_exception(failure);
+  d.canvas = canvases[0];
+  for (std::size_t t = 1; t < workers; ++t) cv::min(d.canvas, canvases[t], d.canvas);
   if (progress) progress(1.0);
   return d;
 }

@@ -39,11 +39,15 @@ std::pair<std::size_t, std::size_t> keep_longest(std::vector<Segment>* strokes,
                                                 std::vector<Segment>* hatching, std::size_t max_lines);
 
 // Draws every segment as a human line (human_path with `path_params`, seeded by line_seed) with
-// the pencil `profile` onto a paper canvas of image_size x scale. `progress` (may be empty) gets
-// the fraction of lines drawn. Throws std::invalid_argument for scale <= 0 or an empty size.
+// the pencil `profile` onto a paper canvas of image_size x scale. `threads` (>= 1) threads draw
+// runs of lines onto canvases of their own, merged by min at the end: a line's texture does not
+// depend on what is already on the paper and marks combine by min, so the drawing is the same
+// bit for bit for any thread count. `progress` (may be empty) is called from the calling thread
+// only, with the fraction of lines drawn. Throws std::invalid_argument for scale <= 0, an empty
+// size or threads < 1.
 SketchDrawing draw_sketch(cv::Size image_size, double scale, const std::vector<Segment>& strokes,
                           const std::vector<Segment>& hatching, const PathParams& path_params,
                           const PencilProfile& profile, std::uint64_t seed,
-                          const std::function<void(double)>& progress = {});
+                          const std::function<void(double)>& progress = {}, int threads = 2);
 
 }  // namespace atelier::pencil
