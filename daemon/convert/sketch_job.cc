@@ -157,7 +157,7 @@ ConvertResult convert_sketch(const ConvertRequest& req) {
   const std::string name = req.input.filename().string();
   report_progress(req, 0.0);
 
-  const pencil::PencilProfile profile = resolve_pencil(p.pencil, {}, "pencil");
+  const pencil::PencilProfile profile = resolve_pencil(p.pencil, {}, req.params_source);
   const cv::Mat image = eight_bit(load_image(req.input, req.limits), name);
 
   Clock::time_point t = Clock::now();
