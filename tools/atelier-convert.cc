@@ -42,6 +42,7 @@
 
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/reference_scan.h"
+#include "algorithms/pencil/strokes.h"
 #include "daemon/convert/convert.h"
 #include "daemon/convert/line_job.h"
 #include "daemon/convert/output_files.h"
@@ -127,22 +128,18 @@ int input_error(const std::string& what) {
   return 1;
 }
 
-// A scan as 8-bit grey on white: colour by luminance, transparent pixels as paper.
+// A scan as 8-bit grey on white: colour by luminance, transparent pixels as paper (composited
+// as sketch jobs do, pencil::on_white_paper).
 cv::Mat scan_to_grey(const cv::Mat& image, const std::string& name) {
   cv::Mat eight = image;
   if (image.depth() == CV_16U) image.convertTo(eight, CV_8U, 1.0 / 257);
   else if (image.depth() != CV_8U) throw ConvertError(name + ": expected an 8- or 16-bit image");
-  cv::Mat grey;
-  if (eight.channels() == 1) grey = eight;
-  else if (eight.channels() == 3) cv::cvtColor(eight, grey, cv::COLOR_BGR2GRAY);
-  else if (eight.channels() == 4) {
-    cv::Mat alpha, white(eight.size(), CV_8UC1, cv::Scalar(255));
-    cv::cvtColor(eight, grey, cv::COLOR_BGRA2GRAY);
-    cv::extractChannel(eight, alpha, 3);
-    cv::blendLinear(grey, white, cv::Mat_<float>(alpha) / 255.0f, 1.0f - cv::Mat_<float>(alpha) / 255.0f, grey);
-  } else {
+  if (eight.channels() != 1 && eight.channels() != 3 && eight.channels() != 4)
     throw ConvertError(name + ": expected a grey, colour or colour+alpha image");
-  }
+  const cv::Mat paper = atelier::pencil::on_white_paper(eight);
+  if (paper.channels() == 1) return paper;
+  cv::Mat grey;
+  cv::cvtColor(paper, grey, cv::COLOR_BGR2GRAY);
   return grey;
 }
 
