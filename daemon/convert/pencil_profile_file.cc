@@ -137,7 +137,7 @@ class ProfileReader {
       for (int k = 0; k < 2; ++k)
         if (v[k] < 0 || v[k] >= kLevels)
           fail_at(cell, key, "entry " + entry + ": grey level " + std::to_string(v[k]) + " is outside 0..255");
-      if (v[2] < 1 || v[2] > (int64_t{1} << 40)) fail_at(cell, key, "entry " + entry + ": count must be at least 1");
+      if (v[2] < 1 || v[2] > (int64_t{1} << 40)) fail_at(cell, key, "entry " + entry + ": count must be 1 .. 2^40");
       double& slot = out[static_cast<size_t>(v[0] * kLevels + v[1])];
       if (slot != 0.0) fail_at(cell, key, "entry " + entry + ": pair listed twice");
       slot = static_cast<double>(v[2]);

@@ -6,7 +6,7 @@
 //                         NAME.toml (from `atelier-convert pencil-profile`), relative to the file
 //                         that names it
 //   squiggle = 5 (0..50)  D of the paper, in drawing px: how far a line may wander
-//   seed = 1              every line is different, the same seed gives the same drawing
+//   seed = 1 (0..2^53)    every line is different, the same seed gives the same drawing
 //   scale = 2 (0.25..8)   drawing px per image px (the preview is this much larger than the input;
 //                         longer side capped at 4096 px, see report `scale`)
 //   min_stroke_px = 6 (0..1000)  image px: shorter strokes are dropped

@@ -265,6 +265,9 @@ TEST(PencilProfileFile, CountsAboveTheirTotalAreRefused) {
   ASSERT_EQ(text.substr(cut, end - cut), ", 0, 0, 0, 0,") << "the last counts are not zeros";
   text.erase(cut + 1, end - cut - 1);
   EXPECT_THAT(read_error(text), HasSubstr("key 'mid_hist': grey level 0: count 4611686018427387904 is more than"));
+  // A ccm count past 2^40 says what the range is (it said "at least 1").
+  const std::string ccm = replaced(profile_to_toml(learned(), "lines.png"), "ccm = [\n", "ccm = [\n  [0, 0, 2000000000000],\n");
+  EXPECT_THAT(read_error(ccm), HasSubstr("entry [0, 0, 2000000000000]: count must be 1 .. 2^40"));
 }
 
 // Reading is bounded: the largest profile that can be written (every ccm cell, the largest
