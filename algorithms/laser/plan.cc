@@ -145,6 +145,12 @@ std::string format_number(double value) {
 }
 
 Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
+  // A NaN would pass every comparison below unnoticed (and stall the ordering): refuse it first.
+  for (const auto& l : layers)
+    for (const auto& path : l.paths)
+      for (const auto& q : path.points)
+        if (!std::isfinite(q.x) || !std::isfinite(q.y))
+          throw PlanError("layer '" + l.settings.name + "': a point is not a finite number");
   // Nesting over every cut layer at once, so that a hole drawn in another colour than its
   // outline still counts as a hole (kerf inwards, cut before the outline).
   std::vector<Path> all_cut;

@@ -19,7 +19,8 @@
 namespace atelier::pencil {
 
 struct SketchLine {
-  std::vector<cv::Point2d> path;  // drawing px, from the segment's first end to its second
+  std::vector<cv::Point2d> path;  // drawing px, from the segment's first end to its second;
+                                  // the drawn spline thinned to within 0.05 px
   bool hatch = false;             // a hatching line (else an edge stroke)
 };
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "algorithms/laser/plan.h"
@@ -44,6 +45,19 @@ TEST(LaserGcode, HeaderAndEnd) {
   for (const auto& l : lines) EXPECT_LE(l.size(), 70u) << l;
   EXPECT_DOUBLE_EQ(job.bounds.min_x, 10);
   EXPECT_DOUBLE_EQ(job.bounds.max_y, 390);
+}
+
+TEST(LaserGcode, ANonFinitePointIsRefusedNotPlanned) {
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    Path p = square(10, 10, 20);
+    p.points[2].x = bad;
+    try {
+      plan_job({layer("black", Mode::engrave, {p})}, Machine{});
+      FAIL() << "planned a path through " << bad;
+    } catch (const PlanError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("layer 'black': a point is not a finite number"));
+    }
+  }
 }
 
 TEST(LaserGcode, InnerSquareIsCutBeforeTheSquareAroundIt) {
