@@ -10,21 +10,13 @@
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/texture.h"
 #include "daemon/convert/pencil_profile_file.h"
+#include "tests/unit/pencil_test_lines.h"
 
 namespace atelier::pencil {
 namespace {
 
 // Four nearly vertical hand-drawn lines, as a scan to learn from would show them.
-cv::Mat drawn_lines(const PencilProfile& p, std::uint64_t seed) {
-  cv::Mat canvas(400, 200, CV_8UC1, cv::Scalar(255));
-  PathParams params;
-  params.squiggle = 1.0;
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d from(25 + 50 * i, -5), to(25 + 50 * i, 404);
-    draw_pencil_line(canvas, human_path(from, to, params, seed + i).path, p, seed + i);
-  }
-  return canvas;
-}
+cv::Mat drawn_lines(const PencilProfile& p, std::uint64_t seed) { return testing::drawn_lines(p, seed, 4); }
 
 TEST(PencilGrades, EveryShippedPencilDrawsItsOwnStatistics) {
   std::vector<PencilProfile> grades, learned;

@@ -12,6 +12,7 @@
 #include "algorithms/pencil/path.h"
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/texture.h"
+#include "tests/unit/pencil_test_lines.h"
 
 namespace atelier::pencil {
 namespace {
@@ -85,16 +86,7 @@ TEST(PencilTexture, BadInputsThrowAndIdenticalHistogramsAreAtZero) {
 }
 
 // Three hand-drawn lines (a slight squiggle) as long as the scanned ones.
-cv::Mat drawn_lines(const PencilProfile& p, std::uint64_t seed) {
-  cv::Mat canvas(400, 150, CV_8UC1, cv::Scalar(255));
-  PathParams params;
-  params.squiggle = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    const cv::Point2d from(25 + 50 * i, -5), to(25 + 50 * i, 404);
-    draw_pencil_line(canvas, human_path(from, to, params, seed + i).path, p, seed + i);
-  }
-  return canvas;
-}
+cv::Mat drawn_lines(const PencilProfile& p, std::uint64_t seed) { return testing::drawn_lines(p, seed, 3); }
 
 TEST(PencilTexture, DrawnLineMatchesItsProfileBetterThanNoise) {
   const PencilProfile& p = six_b();
