@@ -130,4 +130,12 @@ cv::Mat load_image(const fs::path& file, const ImageLimits& limits) {
   return image;
 }
 
+cv::Mat to_8bit(const cv::Mat& image) {
+  if (image.depth() == CV_8U) return image;
+  const bool floating = image.depth() == CV_32F || image.depth() == CV_64F;
+  cv::Mat out;
+  image.convertTo(out, CV_8U, image.depth() == CV_16U ? 1.0 / 257.0 : floating ? 255.0 : 1.0);
+  return out;
+}
+
 }  // namespace atelier

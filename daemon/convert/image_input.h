@@ -31,4 +31,9 @@ ImageHeader probe_image(const std::filesystem::path& file);
 // including truncated or corrupt data that the decoder rejects.
 cv::Mat load_image(const std::filesystem::path& file, const ImageLimits& limits);
 
+// The image with 8-bit pixels (the same data when it already has them): decoders give 16-bit
+// PNGs and TIFFs as 0..65535 (scaled by 1/257) and float TIFFs as 0..1 (scaled by 255); other
+// depths are converted as they are (saturated).
+cv::Mat to_8bit(const cv::Mat& image);
+
 }  // namespace atelier

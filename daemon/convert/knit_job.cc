@@ -40,17 +40,6 @@ class StageTimer {
   nlohmann::ordered_json times_ = nlohmann::ordered_json::object();
 };
 
-// Decoders may give 16-bit or float pixels; the stitch grid wants 8-bit.
-cv::Mat to_8bit(const cv::Mat& image) {
-  if (image.depth() == CV_8U) return image;
-  cv::Mat out;
-  double scale = image.depth() == CV_16U ? 1.0 / 257.0
-                 : (image.depth() == CV_32F || image.depth() == CV_64F) ? 255.0
-                                                                        : 1.0;
-  image.convertTo(out, CV_8U, scale);
-  return out;
-}
-
 cv::Vec3b bgr(const Rgb& c) { return cv::Vec3b(c.b, c.g, c.r); }
 
 // The relax mask in stitch-grid coordinates: resampled exactly as the picture (same size,

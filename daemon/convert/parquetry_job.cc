@@ -51,13 +51,6 @@ std::string folder_name(const fs::path& dir) {
   return p.filename().string();
 }
 
-cv::Mat to_8bit(const cv::Mat& m) {
-  if (m.depth() == CV_8U) return m;
-  cv::Mat out;
-  m.convertTo(out, CV_8U, m.depth() == CV_16U ? 1.0 / 257 : 1.0);
-  return out;
-}
-
 // The laser layers the parquetry program uses: engrave IDs on #0000ff, cut on #ff0000.
 struct Layers {
   laser::LayerSettings engrave, cut;

@@ -35,13 +35,10 @@ double ms_since(Clock::time_point t) {
 cv::Mat eight_bit(const cv::Mat& image, const std::string& name) {
   if (image.channels() == 2 || image.channels() > 4)
     throw ConvertError(name + ": expected a grey, colour or colour+alpha image");
-  if (image.depth() == CV_8U) return image;
-  const bool floating = image.depth() == CV_32F || image.depth() == CV_64F;
-  if (image.depth() != CV_16U && !floating)
+  const int depth = image.depth();
+  if (depth != CV_8U && depth != CV_16U && depth != CV_32F && depth != CV_64F)
     throw ConvertError(name + ": expected 8- or 16-bit or floating-point pixels");
-  cv::Mat out;
-  image.convertTo(out, CV_8U, floating ? 255.0 : 1.0 / 257);
-  return out;
+  return to_8bit(image);
 }
 
 // Douglas-Peucker (cv::approxPolyDP takes float points; drawing px and mm fit them well).

@@ -185,5 +185,16 @@ TEST_F(ImageInputTest, DirectoriesMissingFilesAndDanglingLinksDoNotCrash) {
               AllOf(HasSubstr("zero.jpg"), HasSubstr("not a regular file")));
 }
 
+TEST(ImageDepth, SixteenBitAndFloatPixelsBecomeTheirEightBitGreyLevels) {
+  const cv::Mat eight(2, 2, CV_8UC3, cv::Scalar(10, 128, 255));
+  EXPECT_EQ(to_8bit(eight).data, eight.data);  // already 8-bit: the same pixels, no copy
+  const cv::Mat sixteen(2, 2, CV_16UC1, cv::Scalar(65535));
+  EXPECT_EQ(to_8bit(sixteen).at<uchar>(1, 1), 255);
+  EXPECT_EQ(to_8bit(cv::Mat(1, 1, CV_16UC1, cv::Scalar(257 * 100))).at<uchar>(0, 0), 100);
+  // A float TIFF's 0..1: half grey stays half grey, not black.
+  EXPECT_EQ(to_8bit(cv::Mat(1, 1, CV_32FC1, cv::Scalar(0.5))).at<uchar>(0, 0), 128);
+  EXPECT_EQ(to_8bit(cv::Mat(1, 1, CV_64FC3, cv::Scalar(1.0, 0.0, 0.25))).at<cv::Vec3b>(0, 0), cv::Vec3b(255, 0, 64));
+}
+
 }  // namespace
 }  // namespace atelier
