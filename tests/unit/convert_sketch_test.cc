@@ -2,17 +2,16 @@
 // paths (lines.svg), an engraving (engrave.gcode) and report.json.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "daemon/convert/convert.h"
+#include "tests/e2e/daemon_harness.h"
 #include "daemon/convert/param_table.h"
 #include "daemon/convert/pencil_profile_file.h"
 #include "drivers/grbl/program.h"
@@ -25,21 +24,8 @@ using ::testing::HasSubstr;
 
 const fs::path kData = fs::path(ATELIER_TEST_DATA);
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 class ConvertSketchTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("atelier-convert-sketch-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   ConvertResult run(const fs::path& input, const std::string& params_toml = "", const std::string& out = "out") {
     ConvertRequest req;
     req.kind = "sketch";
@@ -49,7 +35,8 @@ class ConvertSketchTest : public ::testing::Test {
     req.output_dir = dir_ / out;
     return convert(req);
   }
-  fs::path dir_;
+  test::TempDir tmp_;
+  const fs::path dir_ = tmp_.path();
 };
 
 // Share of the input's edge pixels (Canny on the image, scaled to the drawing) that have a
@@ -86,14 +73,14 @@ TEST_F(ConvertSketchTest, ALineDrawingIsRedrawnInPencilOverItsEdges) {
 
 TEST_F(ConvertSketchTest, SvgHoldsEveryHandDrawnPathAndTheGcodeEngravesThemWhereAsked) {
   const ConvertResult r = run(kData / "pic3.png", "width_mm = 80\nposition_mm = [20, 30]\npencil = \"2H\"\n");
-  const std::string svg = slurp(dir_ / "out" / "lines.svg");
+  const std::string svg = test::read_file(dir_ / "out" / "lines.svg");
   size_t paths = 0;
   for (size_t at = svg.find("<path d=\"M"); at != std::string::npos; at = svg.find("<path d=\"M", at + 1)) ++paths;
   EXPECT_EQ(paths, r.report["lines"].get<size_t>());
   EXPECT_THAT(svg, HasSubstr("width=\"80mm\" height=\"60mm\" viewBox=\"0 0 800 600\""));
   EXPECT_THAT(svg, HasSubstr("stroke=\"#3c3c3c\""));
 
-  const std::string gcode = slurp(dir_ / "out" / "engrave.gcode");
+  const std::string gcode = test::read_file(dir_ / "out" / "engrave.gcode");
   const grbl::Program prog = grbl::parse_program(gcode, 6000);  // GRBL can take every line
   ASSERT_TRUE(prog.bounds);
   // Design (20..100, 30..90) mm on a 400 mm front-left bed: machine Y = 400 - y.
@@ -118,20 +105,20 @@ TEST_F(ConvertSketchTest, SofterPencilsDrawAndBurnDarker) {
   // An explicit power wins.
   const ConvertResult fixed = run(kData / "pic5.png", "pencil = \"8B\"\npower_pct = 12\n", "fixed");
   EXPECT_EQ(fixed.report["engrave"]["power_pct"], 12);
-  EXPECT_THAT(slurp(dir_ / "fixed" / "engrave.gcode"), HasSubstr("S120"));
+  EXPECT_THAT(test::read_file(dir_ / "fixed" / "engrave.gcode"), HasSubstr("S120"));
 }
 
 TEST_F(ConvertSketchTest, SeedsAreReproducibleAndDifferentSeedsDrawDifferentLines) {
   run(kData / "pic1.png", "seed = 7\n", "a");
   run(kData / "pic1.png", "seed = 7\n", "b");
   run(kData / "pic1.png", "seed = 8\n", "c");
-  EXPECT_EQ(slurp(dir_ / "a" / "lines.svg"), slurp(dir_ / "b" / "lines.svg"));
-  EXPECT_EQ(slurp(dir_ / "a" / "preview.png"), slurp(dir_ / "b" / "preview.png"));
-  EXPECT_NE(slurp(dir_ / "a" / "lines.svg"), slurp(dir_ / "c" / "lines.svg"));
+  EXPECT_EQ(test::read_file(dir_ / "a" / "lines.svg"), test::read_file(dir_ / "b" / "lines.svg"));
+  EXPECT_EQ(test::read_file(dir_ / "a" / "preview.png"), test::read_file(dir_ / "b" / "preview.png"));
+  EXPECT_NE(test::read_file(dir_ / "a" / "lines.svg"), test::read_file(dir_ / "c" / "lines.svg"));
   // Without squiggle the lines are straight: the same for every seed.
   run(kData / "pic1.png", "seed = 7\nsquiggle = 0\n", "d");
   run(kData / "pic1.png", "seed = 8\nsquiggle = 0\n", "e");
-  EXPECT_EQ(slurp(dir_ / "d" / "lines.svg"), slurp(dir_ / "e" / "lines.svg"));
+  EXPECT_EQ(test::read_file(dir_ / "d" / "lines.svg"), test::read_file(dir_ / "e" / "lines.svg"));
 }
 
 TEST_F(ConvertSketchTest, HatchingFillsDarkRegionsWithLines) {
@@ -148,7 +135,7 @@ TEST_F(ConvertSketchTest, HatchingFillsDarkRegionsWithLines) {
   EXPECT_LT(cv::mean(b(inside))[0], cv::mean(a(inside))[0] - 20) << "hatching did not darken the square";
   const cv::Rect outside(0, 0, 600, 60);  // paper above it
   EXPECT_EQ(cv::countNonZero(b(outside) < 200), 0) << "hatching spilled onto the paper";
-  const std::string svg = slurp(dir_ / "hatched" / "lines.svg");
+  const std::string svg = test::read_file(dir_ / "hatched" / "lines.svg");
   EXPECT_THAT(svg, HasSubstr("<g id=\"hatching\""));
 }
 
@@ -218,7 +205,7 @@ TEST_F(ConvertSketchTest, AnEngravingAtTheBedsCornerStaysInsideTheDrawingAndTheB
     const ConvertResult r =
         run(dir_ / "dark.png", std::string("hatching = true\nwidth_mm = 100\nposition_mm = ") + c.position + "\n", out);
     EXPECT_GT(r.report["hatch_lines"].get<int>(), 20);
-    const grbl::Program prog = grbl::parse_program(slurp(dir_ / out / "engrave.gcode"), 6000);
+    const grbl::Program prog = grbl::parse_program(test::read_file(dir_ / out / "engrave.gcode"), 6000);
     ASSERT_TRUE(prog.bounds);
     // Design x in [x0, x0 + 100], y in [y0, y0 + 66.667] on a 400 mm front-left bed (Y = 400 - y).
     EXPECT_GE(prog.bounds->min_x, c.x0 - 1e-3);
@@ -260,7 +247,7 @@ TEST_F(ConvertSketchTest, SixteenBitAndFloatImagesDrawAsTheirEightBitImage) {
     SCOPED_TRACE(other);
     const std::string out = std::string("out-") + other;
     run(dir_ / other, "hatching = true\n", out);
-    EXPECT_EQ(slurp(dir_ / out / "lines.svg"), slurp(dir_ / "eight" / "lines.svg"));
+    EXPECT_EQ(test::read_file(dir_ / out / "lines.svg"), test::read_file(dir_ / "eight" / "lines.svg"));
   }
 }
 

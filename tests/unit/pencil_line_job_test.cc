@@ -5,13 +5,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -21,6 +19,7 @@
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/reference_scan.h"
 #include "daemon/convert/convert.h"
+#include "tests/e2e/daemon_harness.h"
 #include "daemon/convert/line_job.h"
 #include "daemon/convert/param_table.h"
 #include "daemon/convert/pencil_profile_file.h"
@@ -33,21 +32,8 @@ using ::testing::HasSubstr;
 
 const fs::path kTool = fs::path(ATELIER_BINARY_DIR) / "bin" / "atelier-convert";
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 class PencilLineJob : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("pencil-line-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static toml::table params(const std::vector<std::string>& sets) {
     toml::table t;
     for (const auto& s : sets) apply_set(t, s);
@@ -62,7 +48,8 @@ class PencilLineJob : public ::testing::Test {
     return "";
   }
 
-  fs::path dir_;
+  test::TempDir tmp_;
+  const fs::path dir_ = tmp_.path();
 };
 
 TEST_F(PencilLineJob, DrawsTheLineBetweenItsEndPoints) {
@@ -70,7 +57,7 @@ TEST_F(PencilLineJob, DrawsTheLineBetweenItsEndPoints) {
   const ConvertResult r =
       convert_line(params({"from=-30,40", "to=[420, 160]", "pencil=6B", "seed=7"}), "--set", dir_ / "out");
   EXPECT_EQ(r.outputs, (std::vector<std::string>{"line.png", "line.json", "report.json"}));
-  const nlohmann::json j = nlohmann::json::parse(slurp(dir_ / "out" / "line.json"));
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(dir_ / "out" / "line.json"));
   EXPECT_EQ(j["pencil"], "6B");
   EXPECT_EQ(j["seed"], 7);
   EXPECT_EQ(j["squiggle"], 5.0);
@@ -83,7 +70,7 @@ TEST_F(PencilLineJob, DrawsTheLineBetweenItsEndPoints) {
   const cv::Mat png = cv::imread((dir_ / "out" / "line.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(png.type(), CV_8UC1);
   const cv::Point2d origin(j["origin"][0], j["origin"][1]);
-  const nlohmann::json report = nlohmann::json::parse(slurp(dir_ / "out" / "report.json"));
+  const nlohmann::json report = nlohmann::json::parse(test::read_file(dir_ / "out" / "report.json"));
   EXPECT_EQ(report["canvas"]["width"], png.cols);
   EXPECT_EQ(report["canvas"]["height"], png.rows);
   EXPECT_EQ(report["points"], path.size());
@@ -123,13 +110,13 @@ TEST_F(PencilLineJob, SameSeedSameFilesOtherSeedOtherPath) {
     auto sets = base;
     sets.push_back("seed=" + seed);
     convert_line(params(sets), "--set", dir_ / name);
-    return nlohmann::json::parse(slurp(dir_ / name / "line.json"));
+    return nlohmann::json::parse(test::read_file(dir_ / name / "line.json"));
   };
   const nlohmann::json a = with_seed("3", "a"), b = with_seed("3", "b"), c = with_seed("4", "c");
-  EXPECT_EQ(slurp(dir_ / "a" / "line.png"), slurp(dir_ / "b" / "line.png"));
-  EXPECT_EQ(slurp(dir_ / "a" / "line.json"), slurp(dir_ / "b" / "line.json"));
+  EXPECT_EQ(test::read_file(dir_ / "a" / "line.png"), test::read_file(dir_ / "b" / "line.png"));
+  EXPECT_EQ(test::read_file(dir_ / "a" / "line.json"), test::read_file(dir_ / "b" / "line.json"));
   EXPECT_NE(a["path"], c["path"]);
-  EXPECT_NE(slurp(dir_ / "a" / "line.png"), slurp(dir_ / "c" / "line.png"));
+  EXPECT_NE(test::read_file(dir_ / "a" / "line.png"), test::read_file(dir_ / "c" / "line.png"));
   EXPECT_EQ(a["pencil"], "hb");
 }
 
@@ -165,7 +152,7 @@ class PencilConvertTool : public PencilLineJob {
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
-  std::string err() { return slurp(dir_ / "stderr.txt"); }
+  std::string err() { return test::read_file(dir_ / "stderr.txt"); }
   std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 };
 
@@ -181,7 +168,7 @@ TEST_F(PencilConvertTool, LearnsAPencilFromAScan) {
   EXPECT_TRUE(got.hist == want.hist);
   EXPECT_TRUE(got.ccm == want.ccm);
   EXPECT_EQ(got.width_px, want.width_px);
-  EXPECT_THAT(slurp(dir_ / "soft.toml"), HasSubstr("source = \"scan.png\""));
+  EXPECT_THAT(test::read_file(dir_ / "soft.toml"), HasSubstr("source = \"scan.png\""));
 
   // A scan with transparency: transparent pixels are paper, whatever their colour.
   cv::Mat bgra;
@@ -216,18 +203,18 @@ TEST_F(PencilConvertTool, LearnsAPencilFromAScan) {
   EXPECT_EQ(tool("pencil-profile " + q(dir_ / "scan.png")), 2) << "OUT.toml missing";
   EXPECT_EQ(tool("pencil-profile --reference 7X " + q(dir_ / "e.toml")), 2);
   EXPECT_EQ(tool("pencil-profile --help"), 0);
-  EXPECT_THAT(slurp(dir_ / "stdout.txt"), HasSubstr("VERTICALLY"));
+  EXPECT_THAT(test::read_file(dir_ / "stdout.txt"), HasSubstr("VERTICALLY"));
 }
 
 TEST_F(PencilConvertTool, DrawsALine) {
   ASSERT_EQ(tool("line - " + q(dir_ / "out") + " --set from=10,20 --set to=250,90 --set pencil=2H --set seed=5"), 0)
       << err();
   for (const char* f : {"line.png", "line.json", "report.json"}) EXPECT_TRUE(fs::exists(dir_ / "out" / f)) << f;
-  const nlohmann::json j = nlohmann::json::parse(slurp(dir_ / "out" / "line.json"));
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(dir_ / "out" / "line.json"));
   EXPECT_EQ(j["path"].back(), nlohmann::json::array({250.0, 90.0}));
   // The same line through the library: the tool writes what a job writes.
   convert_line(params({"from=10,20", "to=250,90", "pencil=2H", "seed=5"}), "--set", dir_ / "lib");
-  EXPECT_EQ(slurp(dir_ / "out" / "line.png"), slurp(dir_ / "lib" / "line.png"));
+  EXPECT_EQ(test::read_file(dir_ / "out" / "line.png"), test::read_file(dir_ / "lib" / "line.png"));
 
   // A learned profile file as the pencil.
   ASSERT_TRUE(cv::imwrite((dir_ / "scan.png").string(), pencil::reference_scan(*pencil::find_grade_model("B"), 100, 2)));
@@ -241,7 +228,7 @@ TEST_F(PencilConvertTool, DrawsALine) {
   EXPECT_EQ(tool("line " + q(dir_ / "scan.png") + " " + q(dir_ / "bad")), 2) << "INPUT must be -";
   EXPECT_EQ(tool("line -"), 2);
   EXPECT_EQ(tool("--help"), 0);
-  EXPECT_THAT(slurp(dir_ / "stdout.txt"), HasSubstr("pencil-profile"));
+  EXPECT_THAT(test::read_file(dir_ / "stdout.txt"), HasSubstr("pencil-profile"));
 }
 
 // A scan that is all line (no paper beside it) once gave a profile 1200 px wide, written and then
