@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "daemon/core/hot_folder.h"
-#include "daemon/core/job_service.h"
-#include "daemon/core/store.h"
+#include "daemon/hot_folder.h"
+#include "daemon/job_service.h"
+#include "daemon/store.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;

@@ -17,7 +17,7 @@
 #include "algorithms/pencil/path.h"
 #include "algorithms/pencil/sketch.h"
 #include "algorithms/pencil/texture.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/sketch/pencil_profile_file.h"
 
 namespace {
 

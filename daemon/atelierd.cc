@@ -2,10 +2,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "daemon/convert/param_table.h"
-#include "daemon/core/config.h"
-#include "daemon/core/daemon.h"
-#include "daemon/core/log.h"
+#include "convert/common/param_table.h"
+#include "daemon/config.h"
+#include "daemon/daemon.h"
+#include "daemon/log.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"atelierd: turns images dropped into a hot folder into fabrication data"};

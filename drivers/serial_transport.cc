@@ -14,6 +14,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "base/error.h"
+
 namespace atelier {
 namespace {
 
@@ -28,9 +30,9 @@ sp_port* open_with_libserialport(const std::string& path, const std::string& rea
     const int e = errno;
     const std::string why = sp_last_error_message();
     sp_free_port(port);
-    if (e == EBUSY) throw std::runtime_error(path + ": serial port is busy (opened by another program)");
+    if (e == EBUSY) throw DeviceError(path + ": serial port is busy (opened by another program)");
     if (e == ENOENT || e == ENODEV || e == ENXIO) throw LinkLost(path + ": " + errno_text(e));
-    throw std::runtime_error(path + ": cannot open serial port: " + why);
+    throw DeviceError(path + ": cannot open serial port: " + why);
   }
   // Set each parameter on its own: sp_set_flowcontrol() would also drive RTS/DTR.
   if (sp_set_baudrate(port, 115200) != SP_OK || sp_set_bits(port, 8) != SP_OK ||
@@ -40,7 +42,7 @@ sp_port* open_with_libserialport(const std::string& path, const std::string& rea
     const std::string why = sp_last_error_message();
     sp_close(port);
     sp_free_port(port);
-    throw std::runtime_error(path + ": cannot configure serial port: " + why);
+    throw DeviceError(path + ": cannot configure serial port: " + why);
   }
   sp_get_port_handle(port, &fd);
   return port;
@@ -50,15 +52,15 @@ int open_with_termios(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     const int e = errno;
-    if (e == EBUSY) throw std::runtime_error(path + ": serial port is busy (opened by another program)");
+    if (e == EBUSY) throw DeviceError(path + ": serial port is busy (opened by another program)");
     if (e == ENOENT || e == ENODEV || e == ENXIO || e == EIO) throw LinkLost(path + ": " + errno_text(e));
-    throw std::runtime_error(path + ": cannot open serial port: " + errno_text(e));
+    throw DeviceError(path + ": cannot open serial port: " + errno_text(e));
   }
   termios t{};
   if (tcgetattr(fd, &t) != 0) {
     const int e = errno;
     ::close(fd);
-    throw std::runtime_error(path + ": not a serial port: " + errno_text(e));
+    throw DeviceError(path + ": not a serial port: " + errno_text(e));
   }
   cfmakeraw(&t);
   cfsetispeed(&t, B115200);
@@ -69,7 +71,7 @@ int open_with_termios(const std::string& path) {
   if (tcsetattr(fd, TCSANOW, &t) != 0) {
     const int e = errno;
     ::close(fd);
-    throw std::runtime_error(path + ": cannot configure serial port: " + errno_text(e));
+    throw DeviceError(path + ": cannot configure serial port: " + errno_text(e));
   }
   return fd;
 }
@@ -97,7 +99,7 @@ std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path) 
   if (ioctl(fd, TIOCEXCL) != 0) {
     const int e = errno;
     release();
-    throw std::runtime_error(path + ": cannot lock serial port: " + errno_text(e));
+    throw DeviceError(path + ": cannot lock serial port: " + errno_text(e));
   }
   const int flags = fcntl(fd, F_GETFL);
   fcntl(fd, F_SETFL, flags | O_NONBLOCK);
@@ -107,7 +109,7 @@ std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path) 
   if (wake < 0) {
     const int e = errno;
     release();
-    throw std::runtime_error(path + ": eventfd: " + errno_text(e));
+    throw DeviceError(path + ": eventfd: " + errno_text(e));
   }
   return std::unique_ptr<SerialTransport>(new SerialTransport(path, fd, port, wake));
 }

@@ -11,11 +11,13 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "base/error.h"
+
 namespace atelier {
 
-class LinkLost : public std::runtime_error {
+class LinkLost : public DeviceError {
  public:
-  using std::runtime_error::runtime_error;
+  using DeviceError::DeviceError;
 };
 
 class Transport {

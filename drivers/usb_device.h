@@ -21,14 +21,15 @@
 #include <string>
 #include <vector>
 
+#include "base/error.h"
 #include "drivers/usb_id.h"
 
 namespace atelier {
 
 // libusb failures and ambiguous matches. The message names the device or libusb call.
-class UsbError : public std::runtime_error {
+class UsbError : public DeviceError {
  public:
-  using std::runtime_error::runtime_error;
+  using DeviceError::DeviceError;
 };
 
 struct UsbDeviceInfo {

@@ -34,8 +34,9 @@
 #include <string>
 #include <vector>
 
-#include "daemon/convert/convert.h"
-#include "daemon/convert/param_table.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
+#include "convert/common/param_table.h"
 #include "tools/convert_commands.h"
 
 namespace fs = std::filesystem;

@@ -16,12 +16,12 @@
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/reference_scan.h"
 #include "algorithms/pencil/strokes.h"
-#include "daemon/convert/convert.h"
-#include "daemon/convert/image_input.h"
-#include "daemon/convert/line_job.h"
-#include "daemon/convert/output_files.h"
-#include "daemon/convert/param_table.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/convert.h"
+#include "convert/common/image_input.h"
+#include "convert/sketch/line_job.h"
+#include "convert/common/output_files.h"
+#include "convert/common/param_table.h"
+#include "convert/sketch/pencil_profile_file.h"
 
 namespace atelier::convert_tool {
 

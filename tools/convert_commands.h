@@ -1,5 +1,5 @@
 // The atelier-convert commands that are not job kinds (issue 8): `line` draws one hand-drawn
-// pencil line from its two end points (daemon/convert/line_job.h), `pencil-profile` learns a
+// pencil line from its two end points (convert/sketch/line_job.h), `pencil-profile` learns a
 // pencil profile from a scan of its lines (algorithms/pencil/profile.h) or from the modelled
 // reference scan of a shipped grade. Each parses its own arguments (argv[0] = the command's
 // name) and returns the exit code: 0 ok, 1 bad input (message on stderr), 2 usage.

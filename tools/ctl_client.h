@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/error.h"
+
 namespace atelier::ctl {
 
 // Where the daemon listens when no --socket is given: $ATELIER_SOCKET if set and
@@ -18,10 +20,10 @@ std::string default_socket_path();
 
 // The daemon cannot be talked to: connect failed, the connection broke or closed, or no
 // answer came in time. what() names the socket path and the cause.
-class UnreachableError : public std::runtime_error {
+class UnreachableError : public DeviceError {
  public:
   UnreachableError(const std::string& message, int error_number)
-      : std::runtime_error(message), error_number_(error_number) {}
+      : DeviceError(message), error_number_(error_number) {}
   // errno of the failing call, 0 when the cause was not a system call (EOF, timeout).
   int error_number() const { return error_number_; }
 
@@ -31,9 +33,9 @@ class UnreachableError : public std::runtime_error {
 
 // The daemon answered something that is not a protocol message (not JSON, not an object,
 // a line larger than kMaxLineBytes).
-class ProtocolError : public std::runtime_error {
+class ProtocolError : public InternalError {
  public:
-  using std::runtime_error::runtime_error;
+  using InternalError::InternalError;
 };
 
 class ControlClient {

@@ -11,6 +11,7 @@
 
 #include "algorithms/embroidery/design.h"
 #include "algorithms/embroidery/stitch_plan.h"
+#include "base/error.h"
 
 namespace atelier::embroidery {
 
@@ -35,9 +36,9 @@ struct StitchParams {
   double hoop_width_mm = 100, hoop_height_mm = 100;
 };
 
-class HoopTooSmall : public std::runtime_error {
+class HoopTooSmall : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // The design's stitches: colour blocks in palette order of first use (regions taken in layer

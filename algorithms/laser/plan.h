@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "algorithms/laser/geometry.h"
+#include "base/error.h"
 
 namespace atelier::laser {
 
@@ -90,9 +91,9 @@ struct Job {
   double estimated_s = 0;            // length / feed per move; ignores acceleration
 };
 
-class PlanError : public std::runtime_error {
+class PlanError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // Throws PlanError when nothing is left to burn, when settings are unusable (speed <= 0,

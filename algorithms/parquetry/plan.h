@@ -18,6 +18,7 @@
 #include "algorithms/parquetry/outline.h"
 #include "algorithms/parquetry/params.h"
 #include "algorithms/parquetry/sheet.h"
+#include "base/error.h"
 
 namespace atelier::parquetry {
 
@@ -67,18 +68,18 @@ struct Plan {
 };
 
 // Thrown when the wood left cannot hold the plan; says how much area was needed and free.
-class OutOfWood : public std::runtime_error {
+class OutOfWood : public BadInput {
  public:
   OutOfWood(const std::string& what, double needed_mm2, double free_mm2)
-      : std::runtime_error(what), needed_mm2(needed_mm2), free_mm2(free_mm2) {}
+      : BadInput(what), needed_mm2(needed_mm2), free_mm2(free_mm2) {}
   double needed_mm2, free_mm2;
 };
 
 // Thrown when the shapes cannot be made fabricable (a piece below 5 mm, in several parts or
 // with a sliver thinner than min_feature_mm); says which piece and why.
-class Unfabricable : public std::runtime_error {
+class Unfabricable : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // `target` is CV_8UC3 BGR (or CV_8UC1 / CV_8UC4). Throws std::invalid_argument for bad

@@ -15,15 +15,16 @@
 #include <optional>
 #include <string>
 
+#include "base/error.h"
 #include "drivers/ayab/knit_plan.h"
 #include "drivers/ayab/messages.h"
 #include "drivers/transport.h"
 
 namespace atelier::ayab {
 
-class AyabError : public std::runtime_error {
+class AyabError : public DeviceError {
  public:
-  using std::runtime_error::runtime_error;
+  using DeviceError::DeviceError;
 };
 
 struct SessionTimeouts {

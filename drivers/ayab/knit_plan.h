@@ -15,15 +15,16 @@
 #include <string>
 #include <vector>
 
+#include "base/error.h"
 #include "drivers/ayab/messages.h"
 
 namespace atelier::ayab {
 
 // The pattern cannot be knitted on this machine (e.g. wider than the bed); what() says why,
 // with both widths.
-class PlanError : public std::runtime_error {
+class PlanError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 enum class KnitMode {

@@ -1,7 +1,7 @@
 // The machine's drop folder (e.g. a USB stick mounted at /media/EMB) that embroidery machines
 // read stitch files from: files appear there whole or not at all.
 //
-// DropFolder is the OS seam: FileDropDevice (daemon/core/file_drop_device.h) writes through it
+// DropFolder is the OS seam: FileDropDevice (daemon/file_drop_device.h) writes through it
 // and tests replace it with a fake that fails like a full stick. PosixDropFolder writes each
 // file to a hidden temporary name in the same folder, fsyncs it, renames it over the final
 // name (never over an existing file: EEXIST) and fsyncs the folder, so a machine (or a pulled
@@ -16,14 +16,16 @@
 #include <string>
 #include <string_view>
 
+#include "base/error.h"
+
 namespace atelier {
 
 // A write into the drop folder failed. what() names the folder, the file and the OS reason
 // ("/media/EMB: no space left on device writing 7-cat.dst").
-class DropError : public std::runtime_error {
+class DropError : public DeviceError {
  public:
   DropError(const std::string& what, int error_number)
-      : std::runtime_error(what), error_number_(error_number) {}
+      : DeviceError(what), error_number_(error_number) {}
   int error_number() const { return error_number_; }  // errno, e.g. ENOSPC, ENOENT
  private:
   int error_number_;

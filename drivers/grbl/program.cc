@@ -8,13 +8,15 @@
 #include <cstdio>
 #include <numeric>
 
+#include "base/error.h"
+
 namespace atelier::grbl {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void fail(int line, const std::string& what) {
-  throw std::runtime_error("line " + std::to_string(line) + ": " + what);
+  throw BadInput("line " + std::to_string(line) + ": " + what);
 }
 
 std::string hex_byte(unsigned char c) {

@@ -56,9 +56,9 @@ bool settled(const Status& s) {
 }  // namespace
 
 GrblError::GrblError(int c, size_t n, std::string l)
-    : std::runtime_error(error_text(c, n, l)), code(c), line_number(n), line(std::move(l)) {}
+    : DeviceError(error_text(c, n, l)), code(c), line_number(n), line(std::move(l)) {}
 
-GrblAlarm::GrblAlarm(int c) : std::runtime_error("ALARM:" + std::to_string(c) + " " + alarm_meaning(c)), code(c) {}
+GrblAlarm::GrblAlarm(int c) : DeviceError("ALARM:" + std::to_string(c) + " " + alarm_meaning(c)), code(c) {}
 
 Session::Session(Transport& link, Timeouts t) : link_(link), t_(t), last_rx_(Clock::now()) {}
 
@@ -246,7 +246,7 @@ void Session::command(const std::string& line) {
         reset_after_alarm();
         throw GrblAlarm(r->code);
       case Reply::banner:
-        throw std::runtime_error("GRBL restarted while running '" + line + "'");
+        throw DeviceError("GRBL restarted while running '" + line + "'");
       default: break;
     }
   }
@@ -414,7 +414,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
     if (!r) continue;
     switch (r->kind) {
       case Reply::ok:
-        if (in_flight.empty()) throw std::runtime_error("GRBL sent 'ok' with no line in flight (protocol out of step)");
+        if (in_flight.empty()) throw DeviceError("GRBL sent 'ok' with no line in flight (protocol out of step)");
         in_flight.pop_front();
         window.acked();
         ++acked;
@@ -423,7 +423,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         break;
       case Reply::error: {
         if (in_flight.empty())
-          throw std::runtime_error("GRBL sent error:" + std::to_string(r->code) + " with no line in flight");
+          throw DeviceError("GRBL sent error:" + std::to_string(r->code) + " with no line in flight");
         const size_t k = in_flight.front();
         stop_machine();  // lines already queued would still run; the error says what matters
         throw GrblError(r->code, static_cast<size_t>(p.source_line[k]), p.source_text[k]);
@@ -433,7 +433,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         throw GrblAlarm(r->code);
       case Reply::banner: {
         const int at = acked < n ? p.source_line[acked] : p.source_line.empty() ? 0 : p.source_line.back();
-        throw std::runtime_error("GRBL restarted during the job (near line " + std::to_string(at) +
+        throw DeviceError("GRBL restarted during the job (near line " + std::to_string(at) +
                                  "); the rest of the job was not run");
       }
       case Reply::status: {
@@ -460,7 +460,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         }
         if (!in_flight.empty() && idle_and_empty && Clock::now() - last_ack >= kOutOfStep) {
           emergency_stop();
-          throw std::runtime_error("GRBL is idle but has not acknowledged line " +
+          throw DeviceError("GRBL is idle but has not acknowledged line " +
                                    std::to_string(p.source_line[in_flight.front()]) + " for " +
                                    seconds_text(kOutOfStep) + " (an ok was lost: the stream is out of step); "
                                    "sent feed hold and reset");

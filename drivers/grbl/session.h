@@ -8,7 +8,7 @@
 // may be set from any thread; the session reacts within ~20 ms.
 // Errors: LinkLost (from the transport) propagates unchanged; the classes below say what
 // went wrong with a message for the operator. A controller that restarts by itself in the
-// middle of a command or job (banner out of turn) is a std::runtime_error saying so.
+// middle of a command or job (banner out of turn) is a DeviceError saying so.
 #pragma once
 
 #include <array>
@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/error.h"
 #include "drivers/grbl/messages.h"
 #include "drivers/grbl/program.h"
 #include "drivers/transport.h"
@@ -68,7 +69,7 @@ struct Controls {
 
 // GRBL refused a line. what(): "line 12 (G1X500Y10F600): error:33 invalid target: ..."
 // (the source line number and text); for a single command "command '$C': error:8 ...".
-class GrblError : public std::runtime_error {
+class GrblError : public DeviceError {
  public:
   GrblError(int code, size_t line_number, std::string line);
   int code;
@@ -77,23 +78,23 @@ class GrblError : public std::runtime_error {
 };
 
 // GRBL raised an alarm. what(): "ALARM:2 soft limit: ...".
-class GrblAlarm : public std::runtime_error {
+class GrblAlarm : public DeviceError {
  public:
   explicit GrblAlarm(int code);
   int code;
 };
 
-class SetupError : public std::runtime_error {  // no banner, laser mode off ($32=0), bad $I, ...
+class SetupError : public DeviceError {  // no banner, laser mode off ($32=0), bad $I, ...
  public:
-  using std::runtime_error::runtime_error;
+  using DeviceError::DeviceError;
 };
-class Silent : public std::runtime_error {  // the controller stopped answering (the link is up)
+class Silent : public DeviceError {  // the controller stopped answering (the link is up)
  public:
-  using std::runtime_error::runtime_error;
+  using DeviceError::DeviceError;
 };
-class Canceled : public std::runtime_error {  // stream ended by Controls::cancel
+class Canceled : public Cancelled {  // stream ended by Controls::cancel
  public:
-  using std::runtime_error::runtime_error;
+  using Cancelled::Cancelled;
   bool position_kept = true;  // false: the reset stopped a moving head (see stop_outcome)
 };
 

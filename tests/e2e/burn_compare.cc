@@ -3,7 +3,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "daemon/convert/svg_paths.h"
+#include "convert/common/svg_paths.h"
 
 namespace atelier::test {
 

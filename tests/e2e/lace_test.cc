@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "daemon/convert/lace_chart_json.h"
+#include "convert/lace/lace_chart_json.h"
 #include "drivers/ayab/lace_plan.h"
 #include "tests/e2e/daemon_harness.h"
 

@@ -19,9 +19,9 @@
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
-#include "daemon/convert/lace_chart_json.h"
-#include "daemon/core/job_service.h"
-#include "daemon/core/knit_device.h"
+#include "convert/lace/lace_chart_json.h"
+#include "daemon/job_service.h"
+#include "daemon/knit_device.h"
 #include "drivers/ayab/lace_plan.h"
 #include "drivers/serial_transport.h"
 #include "tests/e2e/daemon_harness.h"

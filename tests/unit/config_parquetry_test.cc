@@ -3,7 +3,7 @@
 // config file, since the conversion reads them from its standard input.
 #include <gtest/gtest.h>
 
-#include "daemon/core/config.h"
+#include "daemon/config.h"
 
 namespace atelier {
 namespace {

@@ -1,8 +1,8 @@
 // The daemon config is strict: typos and wrong types stop the daemon with file, line, key.
 #include <gtest/gtest.h>
 
-#include "daemon/convert/param_table.h"
-#include "daemon/core/config.h"
+#include "convert/common/param_table.h"
+#include "daemon/config.h"
 
 using atelier::Config;
 using atelier::ParamError;

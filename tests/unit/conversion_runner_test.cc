@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "daemon/core/conversion_runner.h"
+#include "daemon/conversion_runner.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;

@@ -13,8 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "daemon/convert/convert.h"
-#include "daemon/convert/param_table.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
+#include "convert/common/param_table.h"
 
 namespace atelier {
 namespace {

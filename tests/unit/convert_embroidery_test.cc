@@ -11,8 +11,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "daemon/convert/convert.h"
-#include "daemon/convert/param_table.h"
+#include "convert/convert.h"
+#include "convert/common/param_table.h"
 #include "tests/unit/stitch_file_readers.h"
 
 namespace atelier {

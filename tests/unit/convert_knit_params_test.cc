@@ -1,5 +1,5 @@
 // Strict reading of knit parameters: what a user's sidecar typo must produce.
-#include "daemon/convert/knit_params.h"
+#include "convert/knit/knit_params.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -8,8 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "daemon/convert/convert.h"
-#include "daemon/convert/param_table.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
+#include "convert/common/param_table.h"
 
 namespace atelier {
 namespace {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "daemon/convert/convert.h"
-#include "daemon/convert/param_table.h"
+#include "convert/convert.h"
+#include "convert/common/param_table.h"
 
 namespace atelier {
 namespace {

@@ -11,9 +11,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "algorithms/lace/instructions.h"
-#include "daemon/convert/convert.h"
-#include "daemon/convert/lace_chart_json.h"
-#include "daemon/convert/param_table.h"
+#include "convert/convert.h"
+#include "convert/lace/lace_chart_json.h"
+#include "convert/common/param_table.h"
 
 namespace atelier {
 namespace {

@@ -10,10 +10,11 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "daemon/convert/convert.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
 #include "tests/e2e/daemon_harness.h"
-#include "daemon/convert/param_table.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/common/param_table.h"
+#include "convert/sketch/pencil_profile_file.h"
 #include "drivers/grbl/program.h"
 
 namespace atelier {

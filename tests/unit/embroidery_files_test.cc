@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "drivers/embroidery/dst_writer.h"
-#include "drivers/embroidery/exp_writer.h"
+#include "convert/embroidery/dst_writer.h"
+#include "convert/embroidery/exp_writer.h"
 #include "algorithms/embroidery/stitch_plan.h"
 #include "tests/unit/stitch_file_readers.h"
 

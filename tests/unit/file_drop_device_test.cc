@@ -9,8 +9,8 @@
 #include <set>
 #include <thread>
 
-#include "daemon/core/file_drop_device.h"
-#include "daemon/core/job_service.h"
+#include "daemon/file_drop_device.h"
+#include "daemon/job_service.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;

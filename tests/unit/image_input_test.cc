@@ -1,5 +1,5 @@
 // probe_image / load_image on real images and on the bad inputs users actually drop.
-#include "daemon/convert/image_input.h"
+#include "convert/common/image_input.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "daemon/convert/convert.h"
+#include "convert/convert.h"
 
 namespace atelier {
 namespace {

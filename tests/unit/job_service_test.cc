@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "daemon/core/job_service.h"
+#include "daemon/job_service.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;

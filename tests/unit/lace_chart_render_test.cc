@@ -13,7 +13,7 @@
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
-#include "daemon/convert/lace_chart.h"
+#include "convert/lace/lace_chart.h"
 #include "tests/unit/lace_test_charts.h"
 
 namespace atelier {

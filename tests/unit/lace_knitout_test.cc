@@ -13,7 +13,7 @@
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
-#include "daemon/convert/lace_knitout.h"
+#include "convert/lace/lace_knitout.h"
 #include "tests/unit/lace_test_charts.h"
 
 namespace atelier {

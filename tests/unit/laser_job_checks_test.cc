@@ -1,7 +1,7 @@
 // Checks made before a laser job is sent: the power scale it was made for and the travel.
 #include <gtest/gtest.h>
 
-#include "daemon/core/laser_job_checks.h"
+#include "daemon/laser_job_checks.h"
 
 using atelier::job_fit_problem;
 using atelier::rapid_rate;

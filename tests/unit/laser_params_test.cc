@@ -2,8 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "daemon/convert/laser_params.h"
-#include "daemon/convert/param_table.h"
+#include "convert/common/laser_params.h"
+#include "convert/common/param_table.h"
 
 namespace atelier {
 namespace {

@@ -20,10 +20,11 @@
 #include <vector>
 
 #include "algorithms/parquetry/render.h"
-#include "daemon/convert/convert.h"
-#include "daemon/convert/param_table.h"
-#include "daemon/convert/parquetry_job.h"
-#include "daemon/convert/parquetry_params.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
+#include "convert/common/param_table.h"
+#include "convert/parquetry/parquetry_job.h"
+#include "convert/parquetry/parquetry_params.h"
 #include "drivers/grbl/program.h"
 
 namespace atelier {

@@ -9,7 +9,7 @@
 #include "algorithms/pencil/path.h"
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/texture.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/sketch/pencil_profile_file.h"
 #include "tests/unit/pencil_test_lines.h"
 
 namespace atelier::pencil {

@@ -18,11 +18,11 @@
 #include "algorithms/pencil/path.h"
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/reference_scan.h"
-#include "daemon/convert/convert.h"
+#include "convert/convert.h"
 #include "tests/e2e/daemon_harness.h"
-#include "daemon/convert/line_job.h"
-#include "daemon/convert/param_table.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/sketch/line_job.h"
+#include "convert/common/param_table.h"
+#include "convert/sketch/pencil_profile_file.h"
 
 namespace atelier {
 namespace {

@@ -15,8 +15,8 @@
 
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/reference_scan.h"
-#include "daemon/convert/convert.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/convert.h"
+#include "convert/sketch/pencil_profile_file.h"
 
 namespace atelier {
 namespace {

@@ -4,7 +4,7 @@
 #include <random>
 
 #include "algorithms/pencil/sketch.h"
-#include "daemon/convert/pencil_profile_file.h"
+#include "convert/sketch/pencil_profile_file.h"
 
 namespace atelier::pencil {
 namespace {

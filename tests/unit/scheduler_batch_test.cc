@@ -11,7 +11,7 @@
 #include <mutex>
 #include <thread>
 
-#include "daemon/core/scheduler.h"
+#include "daemon/scheduler.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;

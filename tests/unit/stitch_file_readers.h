@@ -1,5 +1,5 @@
 // Readers of DST and EXP stitch files for the tests, written from the formats file
-// (shared/protocols/embroidery-formats.md) independently of the writers in drivers/embroidery.
+// (shared/protocols/embroidery-formats.md) independently of the writers in convert/embroidery.
 // They decode records (file units: 0.1 mm, +y up) and collect every deviation from the format in
 // `errors` rather than stopping, so a test can say what is wrong.
 #pragma once

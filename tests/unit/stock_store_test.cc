@@ -1,4 +1,4 @@
-// The stock of used wood on disk (daemon/convert/stock_store.h): stock.json round trip,
+// The stock of used wood on disk (inventory/stock_store.h): stock.json round trip,
 // corrupt files named, and the lock that serialises conversions.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "daemon/convert/stock_store.h"
+#include "inventory/stock_store.h"
 
 namespace atelier {
 namespace {

@@ -1,6 +1,6 @@
-// Tests for the job store (daemon/core/store.h): schema and migrations, ids, the state
+// Tests for the job store (daemon/store.h): schema and migrations, ids, the state
 // machine, history, listing, counts, progress, threads and persistence.
-#include "daemon/core/store.h"
+#include "daemon/store.h"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
@@ -15,7 +15,7 @@
 #include <set>
 #include <thread>
 
-#include "daemon/core/store_schema.h"
+#include "daemon/store_schema.h"
 
 namespace atelier {
 namespace {

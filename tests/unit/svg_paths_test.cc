@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "daemon/convert/convert.h"
-#include "daemon/convert/svg_paths.h"
+#include "convert/convert.h"
+#include "convert/common/svg_paths.h"
 
 namespace atelier {
 namespace {

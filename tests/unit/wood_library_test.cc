@@ -1,4 +1,4 @@
-// The wood library on disk (daemon/convert/wood_library.h): folders of scans, library.toml,
+// The wood library on disk (inventory/wood_library.h): folders of scans, library.toml,
 // the `wood` list parameter, decoding scans and masks, adding and removing sheets.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
-#include "daemon/convert/wood_library.h"
+#include "inventory/wood_library.h"
 
 namespace atelier {
 namespace {

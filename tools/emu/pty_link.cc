@@ -13,6 +13,8 @@
 #include <chrono>
 #include <thread>
 
+#include "base/error.h"
+
 namespace atelier::emu {
 namespace {
 
@@ -26,7 +28,7 @@ PtyLink::PtyLink(const std::string& link_path) : link_(link_path) {
   struct stat st {};
   if (::lstat(link_.c_str(), &st) == 0) {
     if (!S_ISLNK(st.st_mode))
-      throw std::runtime_error(link_ + ": exists and is not a symlink; refusing to replace it");
+      throw BadInput(link_ + ": exists and is not a symlink; refusing to replace it");
     if (::unlink(link_.c_str()) != 0) throw sys_error(link_ + ": cannot remove the old symlink");
   }
   char name[256] = {};

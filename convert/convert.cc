@@ -1,0 +1,39 @@
+#include "convert/convert.h"
+
+#include <algorithm>
+#include <opencv2/core.hpp>
+#include <stdexcept>
+
+#include "convert/kinds.h"
+
+namespace atelier {
+
+void report_progress(const ConvertRequest& req, double fraction) {
+  if (req.progress) req.progress(std::clamp(fraction, 0.0, 1.0));
+}
+
+ConvertResult convert(const ConvertRequest& request) {
+  const KindInfo* kind = find_kind(request.kind);
+  if (!kind) {
+    throw ConvertError(request.input.filename().string() + ": unknown kind '" + request.kind +
+                       "' (known: " + known_kinds_text() + ")");
+  }
+  if (!request.together.empty() && !kind->batches) {
+    std::string batching;
+    for (const KindInfo& k : kinds())
+      if (k.batches) batching += std::string(batching.empty() ? "" : " and ") + std::string(k.name);
+    throw ConvertError(request.input.filename().string() + ": only " + batching +
+                       " converts several targets together, not " + request.kind);
+  }
+  // OpenCV reports bad data (and its own limits) by exception; the user sees the file name.
+  try {
+    return kind->convert(request);
+  } catch (const cv::Exception& e) {
+    throw ConvertError(request.input.filename().string() + ": image processing failed: " +
+                       e.err);
+  } catch (const std::invalid_argument& e) {
+    throw ConvertError(request.input.filename().string() + ": " + e.what());
+  }
+}
+
+}  // namespace atelier

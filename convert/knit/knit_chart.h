@@ -1,0 +1,36 @@
+// Printable Fair-Isle chart (PDF via cairo) for hand and machine knitters.
+//
+// A4 portrait, 4.5 mm cells, split over as many pages as needed; each page says which rows
+// and stitches it covers. Row 1 is the first row knitted = the bottom row of the picture;
+// right-side (odd) row numbers stand on the right edge, wrong-side (even) ones on the left,
+// as a knitter reads them. Stitches are numbered along the bottom from the right. Every 10th
+// grid line is bold. The first lines give the file name, size, max float and solver, and a
+// colour key. Pages run bottom-up, then right to left: the order in which rows are knitted.
+//
+// Thread-safe (cairo surfaces are per call). The PDF is drawn into memory and written
+// atomically (output_files.h); throws ConvertError naming the file when it cannot be.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "convert/knit/knit_params.h"
+
+namespace atelier {
+
+struct ChartInfo {
+  std::string title;            // usually the input's file name
+  int max_float = 4;
+  std::string solver;
+  std::array<Rgb, 2> colors{};  // background, contrast
+  std::array<std::string, 2> color_names{};  // "#rrggbb" as configured
+  std::function<void(double)> progress;      // fraction of pages written; may be empty
+};
+
+// `grid`: CV_8UC1, 1 = contrast, row 0 = top of the picture. Returns the number of pages.
+int write_chart_pdf(const cv::Mat& grid, const ChartInfo& info, const std::filesystem::path& pdf);
+
+}  // namespace atelier

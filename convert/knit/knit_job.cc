@@ -1,0 +1,212 @@
+#include "convert/knit/knit_job.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "algorithms/knit/dither.h"
+#include "algorithms/knit/floats.h"
+#include "algorithms/knit/preview.h"
+#include "algorithms/knit/similarity.h"
+#include "algorithms/knit/solvers.h"
+#include "algorithms/knit/stitch_grid.h"
+#include "convert/knit/knit_chart.h"
+#include "convert/knit/knit_knitout.h"
+#include "convert/knit/knit_params.h"
+#include "convert/common/output_files.h"
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// Wall time of each stage in milliseconds, in the order the stages ran.
+class StageTimer {
+ public:
+  void done(const std::string& stage) {
+    auto now = Clock::now();
+    times_[stage] = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+  }
+  const nlohmann::ordered_json& json() const { return times_; }
+
+ private:
+  Clock::time_point last_ = Clock::now();
+  nlohmann::ordered_json times_ = nlohmann::ordered_json::object();
+};
+
+cv::Vec3b bgr(const Rgb& c) { return cv::Vec3b(c.b, c.g, c.r); }
+
+// The relax mask in stitch-grid coordinates: resampled exactly as the picture (same size,
+// same orientation and gauge), dark mask pixels (< 128) become relaxed stitches.
+cv::Mat load_relax(const fs::path& mask_file, const cv::Size& picture, const KnitParams& p,
+                   const ImageLimits& limits) {
+  cv::Mat mask = to_8bit(load_image(mask_file, limits));
+  cv::Mat resized;
+  cv::resize(mask, resized, picture, 0, 0, cv::INTER_NEAREST);
+  cv::Mat grey = knit::to_stitch_grid(resized, p.gauge());
+  return grey < 128;
+}
+
+double pct(long part, long whole) { return whole > 0 ? 100.0 * part / whole : 100.0; }
+
+
+}  // namespace
+
+ConvertResult convert_knit(const ConvertRequest& req) {
+  StageTimer timer;
+  const KnitParams p = read_knit_params(req.params, req.params_source);
+  const std::string input_name = req.input.filename().string();
+  report_progress(req, 0.0);
+
+  ImageHeader header = probe_image(req.input);
+  cv::Mat image = to_8bit(load_image(req.input, req.limits));
+  timer.done("load");
+  report_progress(req, 0.05);
+
+  cv::Mat gray = knit::to_stitch_grid(image, p.gauge());
+  if (p.invert) gray = 255 - gray;
+  knit::FloatRules rules;
+  rules.max_float = p.max_float;
+  rules.anchoring = p.anchoring;
+  fs::path relax_file = resolve_relax_mask(p, req.input);
+  if (!relax_file.empty()) rules.relax = load_relax(relax_file, image.size(), p, req.limits);
+  timer.done("stitch_grid");
+  report_progress(req, 0.1);
+
+  const knit::Dither requested = p.dither_method();
+  const knit::Dither method = knit::resolve_dither(requested, gray);
+  cv::Mat start = knit::dither(gray, method, p.threshold);
+  timer.done("dither");
+  report_progress(req, 0.15);
+
+  cv::Mat grid = start.clone();
+  knit::SolverParams sp;
+  sp.solver = p.solver_kind();
+  sp.seed = p.seed;
+  sp.rw_n = p.rw_n;
+  sp.rw_q = p.rw_q;
+  sp.rw_m = p.rw_m;
+  sp.progress = [&req](double f) { report_progress(req, 0.15 + 0.65 * f); };
+  knit::SolveStats stats = knit::solve(grid, rules, sp);
+  timer.done("solve");
+  report_progress(req, 0.8);
+
+  const long total = static_cast<long>(grid.total());
+  const long consistent_before = knit::consistent_stitches(start, rules);
+  const long consistent_after = knit::consistent_stitches(grid, rules);
+  const int longest = knit::longest_float(grid, rules);
+  const double similarity = knit::blurred_ssim(gray, grid, 2.0);
+  const double similarity_start = knit::blurred_ssim(gray, start, 2.0);
+  const long relaxed = rules.relax.empty() ? 0 : cv::countNonZero(rules.relax);
+  timer.done("metrics");
+
+  std::error_code ec;
+  fs::create_directories(req.output_dir, ec);
+  if (ec) {
+    throw ConvertError(req.output_dir.string() + ": cannot create output folder: " + ec.message());
+  }
+  const fs::path& out = req.output_dir;
+
+  cv::Mat pattern = 255 - grid * 255;  // 1 (contrast) -> black, 0 -> white
+  write_output_png(out / kKnitPatternFile, pattern);
+  timer.done("pattern_png");
+
+  knit::PreviewStyle style;
+  style.background = bgr(p.rgb[0]);
+  style.contrast = bgr(p.rgb[1]);
+  style.stitch_px = std::clamp(4000 / grid.cols, 4, 12);  // keeps the render near 4000 px
+  style.stitch_aspect = p.stitches_per_10cm / p.rows_per_10cm;
+  write_output_png(out / "preview.png", knit::render_preview(grid, style));
+  timer.done("preview_png");
+  report_progress(req, 0.85);
+
+  ChartInfo chart;
+  chart.title = input_name;
+  chart.max_float = p.max_float;
+  chart.solver = p.solver;
+  chart.colors = p.rgb;
+  chart.color_names = p.colors;
+  chart.progress = [&req](double f) { report_progress(req, 0.85 + 0.1 * f); };
+  const int pages = write_chart_pdf(grid, chart, out / "chart.pdf");
+  timer.done("chart_pdf");
+  report_progress(req, 0.95);
+
+  KnitoutOptions ko;
+  ko.stitches_per_10cm = p.stitches_per_10cm;
+  ko.title = "atelier knit pattern from " + input_name;
+  write_output(out / "pattern.k", make_knitout(grid, ko));
+  timer.done("knitout");
+
+  ConvertResult result;
+  result.outputs = {kKnitPatternFile, "preview.png", "chart.pdf", "pattern.k", "report.json"};
+
+  nlohmann::ordered_json params = {
+      {"width", p.width},
+      {"stitches_per_10cm", p.stitches_per_10cm},
+      {"rows_per_10cm", p.rows_per_10cm},
+      {"orientation", p.orientation},
+      {"dither", p.dither},
+      {"dither_used", knit::dither_name(method)},
+      {"threshold", p.threshold},
+      {"max_float", p.max_float},
+      {"anchoring", p.anchoring},
+      {"relax_mask", relax_file.string()},
+      {"solver", p.solver},
+      {"seed", p.seed},
+      {"rw_n", p.rw_n},
+      {"rw_q", p.rw_q},
+      {"rw_m", p.rw_m},
+      {"invert", p.invert},
+      {"colors", {p.colors[0], p.colors[1]}},
+  };
+  nlohmann::ordered_json r;
+  r["kind"] = "knit";
+  r["input"] = {{"file", input_name},
+                {"format", header.format},
+                {"width", image.cols},
+                {"height", image.rows},
+                {"channels", image.channels()}};
+  r["parameters"] = params;
+  if (requested == knit::Dither::automatic) {
+    bool line = method == knit::Dither::threshold;
+    r["dither_auto_choice"] = knit::dither_name(method);
+    r["dither_auto_reason"] =
+        line ? "the picture looks like a line drawing (mostly two tones, thin dark strokes)"
+             : "the picture has continuous tones";
+  }
+  r["grid"] = {{"stitches", grid.cols}, {"rows", grid.rows}};
+  r["first_row"] = "bottom";
+  r["conflicts_before"] = stats.violations_before;
+  r["conflicts_after"] = stats.violations_after;
+  r["consistent_before_pct"] = pct(consistent_before, total);
+  r["consistent_after_pct"] = pct(consistent_after, total);
+  r["flips"] = stats.flips;
+  r["random_walk_flips"] = stats.random_walk_flips;
+  r["search_flips"] = stats.search_flips;
+  r["longest_float"] = longest;
+  r["max_float"] = p.max_float;
+  r["solver"] = p.solver;
+  r["complete"] = stats.violations_after == 0;
+  r["relaxed_stitches"] = relaxed;
+  r["similarity"] = similarity;
+  r["similarity_start"] = similarity_start;
+  r["similarity_note"] = "blurred SSIM (sigma 2 stitches) against the grey stitch grid" +
+                         std::string(p.invert ? " (inverted, as dithered)" : "");
+  r["chart_pages"] = pages;
+  timer.done("report");
+  r["timings_ms"] = timer.json();
+  r["outputs"] = result.outputs;
+  write_output(out / "report.json", r.dump(2) + "\n");
+  report_progress(req, 1.0);
+
+  result.report = nlohmann::json::parse(r.dump());
+  return result;
+}
+
+}  // namespace atelier

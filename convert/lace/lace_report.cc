@@ -1,0 +1,119 @@
+#include "convert/lace/lace_report.h"
+
+#include <algorithm>
+
+#include "algorithms/lace/chart.h"
+#include "drivers/ayab/lace_plan.h"
+
+namespace atelier {
+namespace {
+
+// Over all rows, each taken as repeated side by side (as the fabric has it).
+int max_adjacent_yarn_overs(const lace::Chart& chart) {
+  int most = 0;
+  for (const lace::Row& row : chart.rows) most = std::max(most, lace::max_adjacent_yarn_overs(row, true));
+  return most;
+}
+
+nlohmann::json stitch_counts(const lace::Chart& chart) {
+  nlohmann::json counts = nlohmann::json::object();
+  for (lace::Symbol s : lace::kAllSymbols) counts[std::string(lace::name(s))] = 0;
+  for (const lace::Row& row : chart.rows)
+    for (lace::Symbol s : row) counts[std::string(lace::name(s))] = counts[std::string(lace::name(s))].get<int>() + 1;
+  return counts;
+}
+
+nlohmann::json params_json(const LaceParams& p) {
+  nlohmann::json j = {{"width", p.width},
+                      {"rows", p.rows},
+                      {"population", p.population},
+                      {"generations", p.generations},
+                      {"holes", p.holes},
+                      {"knit_length", p.knit_length},
+                      {"depth", p.depth},
+                      {"symmetry", p.symmetry},
+                      {"width_tolerance", p.width_tolerance},
+                      {"seed", p.seed},
+                      {"lace_carriage", p.lace_carriage},
+                      {"repeats_wide", p.repeats_wide},
+                      {"repeats_high", p.repeats_high}};
+  if (p.start_chart_file) j["start_chart"] = p.start_chart_file->string();
+  else if (!p.start_rows.empty()) j["start_chart"] = p.start_rows;
+  return j;
+}
+
+// What the lace carriage of a Brother machine (through AYAB) can do with the swatch. The
+// device plans again with its own machine type and needles; this uses a KH-930 bed, centred.
+nlohmann::json machine_json(const lace::Chart& chart, int cast_on, const LaceParams& p) {
+  ayab::PlanParams plan_params;
+  const ayab::LacePlanResult plan =
+      ayab::plan_lace(chart, cast_on, p.repeats_wide, p.repeats_high, plan_params);
+  // The first problems say what to change; a 200 x 200 chart can have thousands.
+  constexpr std::size_t kListed = 100;
+  const std::vector<std::string> listed(plan.problems.begin(),
+                                        plan.problems.begin() + static_cast<std::ptrdiff_t>(
+                                                                    std::min(kListed, plan.problems.size())));
+  return {{"lace_carriage", plan.problems.empty()},
+          {"machine", "kh930"},
+          {"repeats_wide", p.repeats_wide},
+          {"repeats_high", p.repeats_high},
+          {"lace_passes", plan.lace_passes},
+          {"knit_passes", plan.knit_passes},
+          {"problems", listed},
+          {"problems_total", plan.problems.size()},
+          {"how", "per chart row: the lace carriage (parked left) transfers, then the knit "
+                  "carriage knits the right-side row and the purl row"}};
+}
+
+}  // namespace
+
+nlohmann::json lace_report_json(const ConvertRequest& req, const std::string& title, const LaceParams& params,
+                                const std::optional<LaceChartFile>& start, const lace::EvolveResult& result,
+                                const lace::PreviewOptions& preview, double evolve_s, double outputs_s) {
+  const lace::Chart& chart = result.chart;
+  const int cast_on = result.cast_on;
+  std::vector<int> row_widths;
+  for (const lace::Row& row : chart.rows) row_widths.push_back(lace::produced(row));
+  const lace::Evaluation& ev = result.evaluation;
+  const lace::Knittability knit = lace::knittable(chart, cast_on);
+  return {
+      {"kind", "lace"},
+      {"input", req.input == "-" ? std::string("-") : req.input.filename().string()},
+      {"title", title},
+      {"cast_on", cast_on},
+      {"rows", chart.rows.size()},
+      {"row_widths", row_widths},
+      {"start_chart", start ? nlohmann::json(params_json(params)["start_chart"]) : nlohmann::json(nullptr)},
+      {"constraints",
+       {{"knittable", knit.ok},
+        {"yarn_over_balance", lace::yarn_over_balance(chart)},
+        {"max_adjacent_yarn_overs", max_adjacent_yarn_overs(chart)},
+        {"adjacent_yarn_overs_ok", lace::adjacent_yarn_overs_ok(chart, true)},
+        {"width_tolerance", params.width_tolerance},
+        {"width_ok", lace::width_ok(chart, params.width_tolerance)},
+        {"all_satisfied", ev.constraints.ok()}}},
+      {"fitness",
+       {{"score", ev.score},
+        {"holes", ev.objectives.holes},
+        {"knit_length", ev.objectives.knit_length},
+        {"depth", ev.objectives.depth},
+        {"symmetry", ev.objectives.symmetry},
+        {"weights",
+         {{"holes", params.holes},
+          {"knit_length", params.knit_length},
+          {"depth", params.depth},
+          {"symmetry", params.symmetry}}}}},
+      {"stitches", stitch_counts(chart)},
+      {"generations", result.generations_run},
+      {"population", params.population},
+      {"best_score", result.best_score},
+      {"feasible_in_final_population", result.feasible_in_final_population},
+      {"machine", machine_json(chart, cast_on, params)},
+      {"preview", {{"repeats_wide", preview.repeats_x}, {"repeats_high", preview.repeats_y},
+                   {"stitch_px", preview.stitch_px}}},
+      {"params", params_json(params)},
+      {"timings_s", {{"evolve", evolve_s}, {"outputs", outputs_s}}},
+  };
+}
+
+}  // namespace atelier

@@ -1,0 +1,453 @@
+#include "daemon/daemon.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/file.h>
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <systemd/sd-daemon.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <sstream>
+
+#include "base/error.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
+#include "convert/common/param_table.h"
+#include "daemon/job_json.h"
+#include "daemon/file_drop_device.h"
+#include "daemon/knit_device.h"
+#include "daemon/laser_device.h"
+#include "daemon/wood_service.h"
+#include "drivers/serial_transport.h"
+#include "drivers/usb_device.h"
+#include "daemon/log.h"
+
+namespace fs = std::filesystem;
+
+namespace atelier {
+namespace {
+
+int64_t job_id_arg(const nlohmann::json& args) {
+  if (!args.contains("id") || !args["id"].is_number_integer())
+    throw ControlError("this request needs an integer job \"id\"");
+  return args["id"].get<int64_t>();
+}
+
+}  // namespace
+
+Daemon::Daemon(fs::path config_file, Config initial)
+    : config_file_(std::move(config_file)),
+      config_(std::make_shared<const Config>(std::move(initial))),
+      started_(std::chrono::steady_clock::now()) {
+  sigset_t mask;
+  sigemptyset(&mask);
+  for (int s : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&mask, s);
+  pthread_sigmask(SIG_BLOCK, &mask, nullptr);
+  signal_fd_ = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+  ::signal(SIGPIPE, SIG_IGN);
+
+  const Config& c = *config_;
+  // One daemon per spool: a second one would steal the socket and "recover" live jobs.
+  std::filesystem::create_directories(c.spool_dir);
+  const fs::path lock_file = c.spool_dir / ".atelierd.lock";
+  lock_fd_ = ::open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0 || ::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0)
+    throw InternalError(lock_file.string() + ": another atelierd is already using the spool " +
+                             c.spool_dir.string());
+  store_ = std::make_unique<Store>(c.store_path);
+  SpoolLayout layout{c.spool_dir};
+  jobs_ = std::make_unique<JobService>(*store_, layout, [this](const JobChange& change) {
+    if (!control_) return;
+    nlohmann::json event = {{"job", job_to_json(change.job)},
+                            {"from", change.from},
+                            {"to", change.to},
+                            {"reason", change.reason}};
+    if (change.progress_only) event["progress"] = true;
+    control_->publish(event);
+  });
+  jobs_->ensure_layout();
+  // Parquetry's wood library and stock of used wood (Config::state_dir()).
+  fs::create_directories(c.state_dir() / "wood");
+  fs::create_directories(c.state_dir() / "wood-stock");
+  runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
+  scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
+  for (const DeviceConfig& d : c.devices) {
+    DeviceWorker::PortResolver resolve;
+    if (!d.usb.empty()) {
+      const UsbId id = parse_usb_id(d.usb);
+      resolve = [id] { return find_usb_tty(id); };
+    } else {
+      resolve = [port = d.port]() -> std::optional<std::string> {
+        std::error_code ec;
+        if (fs::exists(port, ec)) return port;
+        return std::nullopt;
+      };
+    }
+    auto opener = [](const std::string& port) -> std::unique_ptr<Transport> {
+      return SerialTransport::open(port);
+    };
+    if (d.driver == "grbl") {
+      LaserOptions options;
+      options.check_first = c.laser_check_first;
+      options.mode = d.streaming == "send-response" ? grbl::StreamMode::send_response
+                                                    : grbl::StreamMode::character_counting;
+      devices_.push_back(std::make_unique<LaserDevice>(d, *jobs_, opener, resolve, options));
+    } else if (d.driver == "file-drop") {
+      devices_.push_back(std::make_unique<FileDropDevice>(d, *jobs_));
+    } else {  // "ayab"; config.cc accepts no other driver
+      devices_.push_back(std::make_unique<KnitDevice>(d, *jobs_, opener, resolve));
+    }
+  }
+  scheduler_->set_device_hooks(
+      [this](const Job& job) -> std::string {
+        for (const auto& d : devices_) {
+          if (!d->takes(job.kind)) continue;
+          if (d->config().autostart) return d->config().name;
+          return d->config().name + " and `atelierctl start " + std::to_string(job.id) + "`";
+        }
+        return "";
+      },
+      [this] {
+        for (const auto& d : devices_) d->wake();
+      });
+  control_ = std::make_unique<ControlServer>(
+      c.socket_path, c.socket_group,
+      [this](const std::string& verb, const nlohmann::json& args) { return handle(verb, args); });
+}
+
+Daemon::~Daemon() {
+  // The control thread calls into everything else: stop it first (also when run() threw).
+  if (control_) control_->stop();
+  if (usb_monitor_) usb_monitor_->stop();
+  for (auto& d : devices_) d->stop();
+  if (scheduler_) scheduler_->stop();
+  if (lock_fd_ >= 0) ::close(lock_fd_);
+  if (signal_fd_ >= 0) ::close(signal_fd_);
+}
+
+std::shared_ptr<const Config> Daemon::config() const {
+  std::lock_guard lock(config_mu_);
+  return config_;
+}
+
+void Daemon::claim(const fs::path& entry) {
+  try {
+    if (auto id = jobs_->claim(entry)) {
+      auto job = store_->get(*id);
+      if (job && job->state == JobState::queued) {
+        log::info("job " + std::to_string(*id) + ": picked up " + entry.string());
+        scheduler_->enqueue(*id);
+      } else if (job) {
+        log::warning("job " + std::to_string(*id) + ": " + job->reason);
+      }
+    }
+  } catch (const std::exception& e) {
+    // The file stays where it is (or in work/, adopted at the next start): nothing is lost.
+    log::error(entry.string() + ": cannot pick up: " + e.what());
+  }
+}
+
+nlohmann::json Daemon::status() {
+  nlohmann::json queue = nlohmann::json::object();
+  for (const auto& [state, n] : store_->counts()) queue[state_name(state)] = n;
+  auto c = config();
+  auto uptime = std::chrono::duration_cast<std::chrono::seconds>(
+      std::chrono::steady_clock::now() - started_);
+  return {{"version", ATELIER_VERSION},
+          {"pid", getpid()},
+          {"uptime_s", uptime.count()},
+          {"spool", c->spool_dir.string()},
+          {"store", c->store_path.string()},
+          {"watch", c->watch == WatchMode::poll ? "poll" : "inotify"},
+          {"workers", c->workers},
+          {"kinds", known_kinds()},
+          {"queue", queue},
+          {"devices", devices_json()}};
+}
+
+nlohmann::json Daemon::devices_json() const {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& d : devices_) out.push_back(d->describe());
+  return out;
+}
+
+Device* Daemon::device_for(const Job& job) const {
+  if (!job.device.empty())
+    for (const auto& d : devices_)
+      if (d->config().name == job.device) return d.get();
+  for (const auto& d : devices_)
+    if (d->takes(job.kind)) return d.get();
+  return nullptr;
+}
+
+Device& Daemon::device_of_job(int64_t id) {
+  auto job = store_->get(id);
+  if (!job) throw ControlError("no job " + std::to_string(id));
+  Device* d = device_for(*job);
+  if (!d)
+    throw ControlError("job " + std::to_string(id) + " (" + job->kind + "): no device is configured for kind " +
+                       job->kind);
+  return *d;
+}
+
+nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& args) {
+  if (verb == "status") return status();
+  if (verb == "list") {
+    JobFilter filter;
+    if (args.contains("state")) {
+      auto s = state_from_name(args["state"].get<std::string>());
+      if (!s) throw ControlError("unknown state '" + args["state"].get<std::string>() + "'");
+      filter.state = s;
+    }
+    if (args.contains("kind")) filter.kind = args["kind"].get<std::string>();
+    if (args.contains("limit")) filter.limit = args["limit"].get<int>();
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& job : store_->list(filter)) out.push_back(job_to_json(job));
+    return out;
+  }
+  if (verb == "show") {
+    const int64_t id = job_id_arg(args);
+    auto job = store_->get(id);
+    if (!job) throw ControlError("no job " + std::to_string(id));
+    nlohmann::json out = job_to_json(*job);
+    nlohmann::json outputs = nlohmann::json::array();
+    std::error_code ec;
+    if (!job->output_dir.empty()) {
+      std::vector<std::string> names;
+      for (const auto& e : fs::directory_iterator(job->output_dir, ec))
+        names.push_back(e.path().filename().string());
+      std::sort(names.begin(), names.end());
+      for (auto& n : names) outputs.push_back(n);
+    }
+    out["outputs"] = outputs;
+    out["history"] = events_to_json(store_->history(id));
+    return out;
+  }
+  if (verb == "submit") {
+    const std::string path = args.at("path").get<std::string>();
+    const std::string kind = args.at("kind").get<std::string>();
+    if (!fs::path(path).is_absolute()) throw ControlError("submit needs an absolute path");
+    if (!is_known_kind(kind)) {
+      std::string kinds;
+      for (const auto& k : known_kinds()) kinds += (kinds.empty() ? "" : ", ") + k;
+      throw ControlError("unknown kind '" + kind + "'; this build converts: " + kinds);
+    }
+    toml::table overrides;
+    for (const auto& s : args.value("set", nlohmann::json::array())) {
+      try {
+        apply_set(overrides, s.get<std::string>());
+      } catch (const ParamError& e) {
+        throw ControlError(e.what());
+      }
+    }
+    // Refuse bad parameters now, while the user is at the terminal.
+    toml::table merged = config()->kind_defaults.at(kind);
+    merge_into(merged, overrides);
+    try {
+      validate_kind_params(kind, merged, "--set");
+    } catch (const ParamError& e) {
+      throw ControlError(e.what());
+    }
+    std::ostringstream text;
+    text << overrides;
+    int64_t id;
+    try {
+      id = jobs_->submit(path, kind, overrides.empty() ? "" : text.str());
+    } catch (const std::runtime_error& e) {
+      throw ControlError(e.what());
+    }
+    scheduler_->enqueue(id);
+    return job_to_json(*store_->get(id));
+  }
+  if (verb == "cancel") {
+    const int64_t id = job_id_arg(args);
+    auto job = store_->get(id);
+    if (!job) throw ControlError("no job " + std::to_string(id));
+    Device* device = device_for(*job);
+    if ((job->state == JobState::ready || job->state == JobState::running) && device &&
+        device->cancel(id)) {
+      // Ready: canceled at once. Running: the machine finishes its row, then gets the blank
+      // last line (the job turns canceled then).
+      return job_to_json(*store_->get(id));
+    }
+    if (!scheduler_->cancel(id))
+      throw ControlError("job " + std::to_string(id) + " is " + state_name(job->state) +
+                         "; only queued, converting, ready or running jobs can be canceled");
+    // A converting job reaches `canceled` when its converter has stopped (well under 1 s).
+    for (int i = 0; i < 50; ++i) {
+      job = store_->get(id);
+      if (job->state != JobState::converting) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return job_to_json(*job);
+  }
+  if (verb == "retry") {
+    const int64_t id = job_id_arg(args);
+    try {
+      jobs_->retry(id);
+    } catch (const std::runtime_error& e) {
+      throw ControlError(e.what());
+    }
+    scheduler_->enqueue(id);
+    return job_to_json(*store_->get(id));
+  }
+  if (verb == "start" || verb == "resume" || verb == "hold" || verb == "frame") {
+    const int64_t id = job_id_arg(args);
+    Device& device = device_of_job(id);
+    try {
+      if (verb == "start") {
+        device.start(id);
+      } else if (verb == "hold") {
+        device.hold(id);
+      } else if (verb == "frame") {
+        device.frame(id);
+      } else {
+        int from_row = 0;  // none: a laser's feed hold is released
+        if (args.contains("from_row")) {
+          if (!args["from_row"].is_number_integer())
+            throw ControlError("resume needs an integer \"from_row\"");
+          from_row = args["from_row"].get<int>();
+        }
+        device.resume(id, from_row);
+      }
+    } catch (const std::runtime_error& e) {
+      throw ControlError(e.what());
+    }
+    return job_to_json(*store_->get(id));
+  }
+  if (verb == "devices") return devices_json();
+  if (verb == "wood") return wood(args);
+  throw ControlError("unknown verb '" + verb + "'");
+}
+
+nlohmann::json Daemon::wood(const nlohmann::json& args) {
+  auto c = config();
+  const KindInfo* wood_kind = nullptr;
+  for (const KindInfo& k : kinds())
+    if (k.uses_wood) wood_kind = &k;
+  auto it = wood_kind ? c->kind_defaults.find(std::string(wood_kind->name)) : c->kind_defaults.end();
+  if (it == c->kind_defaults.end())
+    throw ControlError("the veneer stock belongs to jobs that plan on wood, which this build does not convert");
+  WoodPlaces places;
+  places.parquetry = it->second;
+  places.source = c->source.string();
+  if (auto stock = it->second["stock"].value<std::string>(); stock && !stock->empty()) places.stock = *stock;
+  places.limits = c->limits;
+  std::string busy;
+  for (int64_t id : scheduler_->converting_ids())
+    if (auto job = store_->get(id); job && job->kind == wood_kind->name)
+      busy += (busy.empty() ? "job " : ", ") + std::to_string(id);
+  places.busy_hint = busy.empty() ? "" : busy + " being planned";
+  try {
+    return wood_request(places, args);
+  } catch (const WoodError& e) {
+    throw ControlError(e.what());
+  }
+}
+
+void Daemon::reload() {
+  try {
+    Config fresh = load_config(config_file_);
+    auto old = config();
+    if (fresh.spool_dir != old->spool_dir || fresh.store_path != old->store_path ||
+        fresh.socket_path != old->socket_path || fresh.workers != old->workers ||
+        fresh.watch != old->watch) {
+      log::warning("reload: spool, store, socket, watch and workers take effect at restart");
+    }
+    {
+      std::lock_guard lock(config_mu_);
+      config_ = std::make_shared<const Config>(std::move(fresh));
+    }
+    log::info("reloaded " + config_file_.string());
+  } catch (const std::exception& e) {
+    log::error("reload failed, keeping the running configuration: " + std::string(e.what()));
+  }
+}
+
+void Daemon::notify_status() {
+  auto counts = store_->counts();
+  std::ostringstream s;
+  s << "STATUS=queued " << counts[JobState::queued] << ", converting "
+    << counts[JobState::converting] << ", completed " << counts[JobState::completed]
+    << ", failed " << counts[JobState::failed];
+  sd_notify(0, s.str().c_str());
+}
+
+int Daemon::run() {
+  const auto cfg = config();
+  // Watch before scanning, so nothing dropped in between is missed.
+  hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
+  for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
+  scheduler_->start(cfg->workers);
+  for (auto& d : devices_) static_cast<DeviceWorker&>(*d).start_worker();
+  if (std::any_of(devices_.begin(), devices_.end(), [](const auto& d) { return !d->config().usb.empty(); })) {
+    usb_monitor_ = std::make_unique<UsbHotplugMonitor>([this](UsbEvent, const UsbDeviceInfo&) {
+      for (const auto& d : devices_) d->wake();
+    });
+    try {
+      usb_monitor_->start();
+    } catch (const std::exception& e) {
+      log::warning(std::string("USB hotplug unavailable, devices are polled: ") + e.what());
+      usb_monitor_.reset();
+    }
+  }
+  for (const auto& entry : hot_folder_->scan()) claim(entry);
+  control_->start();
+
+  uint64_t watchdog_usec = 0;
+  const bool watchdog = sd_watchdog_enabled(0, &watchdog_usec) > 0;
+  sd_notify(0, "READY=1");
+  log::info("atelierd ready: spool " + cfg->spool_dir.string() + ", socket " +
+            cfg->socket_path.string());
+  notify_status();
+
+  using clock = std::chrono::steady_clock;
+  auto next_tick = clock::now();
+  const auto tick = std::chrono::milliseconds(
+      watchdog ? std::min<uint64_t>(1000, watchdog_usec / 2000) : 1000);
+  bool running = true;
+  while (running) {
+    std::vector<struct pollfd> fds = {{signal_fd_, POLLIN, 0}};
+    if (hot_folder_->fd() >= 0) fds.push_back({hot_folder_->fd(), POLLIN, 0});
+    auto timeout = hot_folder_->fd() >= 0 ? tick : std::min<std::chrono::milliseconds>(
+                                                       tick, hot_folder_->poll_interval());
+    if (::poll(fds.data(), fds.size(), static_cast<int>(timeout.count())) < 0 && errno != EINTR) {
+      log::error(std::string("poll: ") + strerror(errno));
+      break;
+    }
+    if (fds[0].revents & POLLIN) {
+      struct signalfd_siginfo si;
+      while (::read(signal_fd_, &si, sizeof si) == sizeof si) {
+        if (si.ssi_signo == SIGHUP) {
+          sd_notify(0, "RELOADING=1");
+          reload();
+          sd_notify(0, "READY=1");
+        } else {
+          running = false;
+        }
+      }
+    }
+    if (!running) break;
+    for (const auto& entry : hot_folder_->collect()) claim(entry);
+    if (clock::now() >= next_tick) {
+      next_tick = clock::now() + tick;
+      if (watchdog) sd_notify(0, "WATCHDOG=1");
+      notify_status();
+    }
+  }
+  sd_notify(0, "STOPPING=1");
+  log::info("stopping: no new jobs; conversions in progress are re-queued");
+  hot_folder_.reset();
+  if (usb_monitor_) usb_monitor_->stop();
+  scheduler_->stop();
+  for (auto& d : devices_) d->stop();  // a job being knitted ends interrupted, never resumed alone
+  control_->stop();
+  log::info("stopped");
+  return 0;
+}
+
+}  // namespace atelier

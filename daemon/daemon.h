@@ -1,0 +1,67 @@
+// atelierd put together: config, store, hot folder, scheduler, control socket and systemd
+// notification, driven by one main loop (signals, inotify, timers).
+//
+// Threading: run() is the main loop and must be called from the main thread with SIGTERM,
+// SIGINT and SIGHUP blocked (the constructor blocks them). Workers and the control server
+// run on their own threads.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "daemon/config.h"
+#include "daemon/control_server.h"
+#include "daemon/conversion_runner.h"
+#include "daemon/device.h"
+#include "daemon/hot_folder.h"
+#include "daemon/job_service.h"
+#include "daemon/scheduler.h"
+#include "daemon/store.h"
+#include "drivers/usb_hotplug.h"
+
+namespace atelier {
+
+class Daemon {
+ public:
+  // Loads nothing itself: `config_file` is re-read on SIGHUP. Throws on startup failures
+  // (store cannot open, socket cannot bind) with a message naming the path.
+  Daemon(std::filesystem::path config_file, Config initial);
+  ~Daemon();
+
+  // Runs until SIGTERM/SIGINT; returns the process exit code (0 on a clean stop).
+  int run();
+
+ private:
+  nlohmann::json handle(const std::string& verb, const nlohmann::json& args);
+  nlohmann::json status();
+  nlohmann::json wood(const nlohmann::json& args);  // the `wood` verb (wood_service.h)
+  nlohmann::json devices_json() const;
+  Device* device_for(const Job& job) const;
+  Device& device_of_job(int64_t id);
+  void claim(const std::filesystem::path& entry);
+  void reload();
+  void notify_status();
+  std::shared_ptr<const Config> config() const;
+
+  std::filesystem::path config_file_;
+  mutable std::mutex config_mu_;
+  std::shared_ptr<const Config> config_;
+  std::chrono::steady_clock::time_point started_;
+  int signal_fd_ = -1;
+  int lock_fd_ = -1;  // flock on <spool>/.atelierd.lock, held for the daemon's life
+  std::unique_ptr<Store> store_;
+  std::unique_ptr<ControlServer> control_;
+  std::unique_ptr<JobService> jobs_;
+  std::unique_ptr<SubprocessRunner> runner_;
+  std::unique_ptr<Scheduler> scheduler_;
+  std::unique_ptr<HotFolder> hot_folder_;
+  std::vector<std::unique_ptr<Device>> devices_;  // one worker each, from [[device]]
+  // Wakes the devices when a USB device comes or goes (only when a device is found by USB id),
+  // so plugging a machine in brings it online at once.
+  std::unique_ptr<UsbHotplugMonitor> usb_monitor_;
+};
+
+}  // namespace atelier

@@ -1,0 +1,52 @@
+// A machine the daemon drives: one worker thread per [[device]], taking the `ready` jobs of
+// its kinds one at a time. Implementations (on DeviceWorker): KnitDevice (AYAB knitting
+// machines), LaserDevice (GRBL laser cutters).
+//
+// Threading: all public methods are thread-safe; the worker owns the machine link.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "base/error.h"
+#include "daemon/config.h"
+
+namespace atelier {
+
+class Device {
+ public:
+  virtual ~Device() = default;
+  virtual const DeviceConfig& config() const = 0;
+  // {"name", "driver", "port", "state" (offline|online|busy), "job" (id or null), "detail"}
+  virtual nlohmann::json describe() const = 0;
+  // A job may have become ready (or armed): look at the store again.
+  virtual void wake() = 0;
+  // Arms a ready job on a device without autostart. Throws std::runtime_error if not possible.
+  virtual void start(int64_t job_id) = 0;
+  // Cancels a ready job of this device's kinds (at once) or the job it is running (it stops
+  // after the current row). Returns false if the job is neither.
+  virtual bool cancel(int64_t job_id) = 0;
+  // Knitting: continues an interrupted job from pattern row `from_row` (1-based). Laser:
+  // `from_row` 0 releases a feed hold. Throws std::runtime_error naming the problem.
+  virtual void resume(int64_t job_id, int from_row) = 0;
+  // Laser: feed hold on the running job (motion stops, the beam is off, position is kept).
+  virtual void hold(int64_t job_id) {
+    throw BadInput("job " + std::to_string(job_id) + ": " + config().name +
+                             " cannot hold a job; only lasers can");
+  }
+  // Laser: traces a ready job's bounding box with the beam off, soon (asynchronously).
+  virtual void frame(int64_t job_id) {
+    throw BadInput("job " + std::to_string(job_id) + ": " + config().name +
+                             " is not a laser; framing traces a laser job's outline");
+  }
+  // Stops the worker (a running job is left interrupted, never restarted on its own).
+  virtual void stop() = 0;
+  bool takes(const std::string& kind) const {
+    for (const auto& k : config().kinds)
+      if (k == kind) return true;
+    return false;
+  }
+};
+
+}  // namespace atelier

@@ -1,0 +1,58 @@
+// Watches <spool>/incoming for complete files: inotify (close-after-write, moved-into,
+// created symlinks and folders) or polling for network shares (complete = size and mtime
+// unchanged for settle_ms). Reports candidates; it never moves anything (claiming is the
+// JobService's job).
+//
+// Threading: used from one thread (the daemon's main loop). Owns its inotify descriptor.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "daemon/config.h"
+#include "daemon/spool_layout.h"
+
+namespace atelier {
+
+class HotFolder {
+ public:
+  HotFolder(SpoolLayout layout, WatchMode mode, int settle_ms);
+  ~HotFolder();
+  HotFolder(const HotFolder&) = delete;
+  HotFolder& operator=(const HotFolder&) = delete;
+
+  // Every entry now in incoming/ and its subfolders that is not temporary and not a
+  // companion (sidecar, relax mask): used at startup and after a watch overflow.
+  std::vector<std::filesystem::path> scan() const;
+
+  // A descriptor that becomes readable when wait() has something (inotify), or -1 in poll
+  // mode (the caller then calls collect() every poll_interval()).
+  int fd() const { return inotify_fd_; }
+  std::chrono::milliseconds poll_interval() const;
+
+  // Returns the candidates that became complete since the last call. Non-blocking.
+  std::vector<std::filesystem::path> collect();
+
+ private:
+  void add_watch(const std::filesystem::path& dir);
+  std::vector<std::filesystem::path> collect_inotify();
+  std::vector<std::filesystem::path> collect_poll();
+
+  SpoolLayout layout_;
+  WatchMode mode_;
+  int settle_ms_;
+  int inotify_fd_ = -1;
+  std::map<int, std::filesystem::path> watches_;  // inotify watch descriptor -> folder
+  struct Seen {
+    uintmax_t size;
+    std::filesystem::file_time_type mtime;
+    std::chrono::steady_clock::time_point since;
+    bool reported;
+  };
+  std::map<std::filesystem::path, Seen> polled_;
+};
+
+}  // namespace atelier

@@ -1,0 +1,383 @@
+#include "daemon/job_service.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "base/error.h"
+#include "convert/convert.h"
+#include "convert/kinds.h"
+#include "daemon/log.h"
+
+namespace fs = std::filesystem;
+
+namespace atelier {
+namespace {
+
+constexpr const char* kClaimFile = "claim.json";
+constexpr const char* kReasonFile = "reason.txt";
+// Written into a job folder just before it moves to done/ or failed/: the state the job is
+// going to, so that recover() finishes a move that a crash cut off with the right state.
+constexpr const char* kFinishFile = "finish.json";
+
+// Lenient JSON text: file names from other systems need not be valid UTF-8.
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// Writes a small file and fsyncs it, so it exists before the next step of a claim.
+void write_durable(const fs::path& file, const std::string& text) {
+  int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw InternalError(file.string() + ": cannot write: " + strerror(errno));
+  ssize_t n = ::write(fd, text.data(), text.size());
+  ::fsync(fd);
+  ::close(fd);
+  if (n != static_cast<ssize_t>(text.size()))
+    throw InternalError(file.string() + ": short write");
+}
+
+void fsync_dir(const fs::path& dir) {
+  int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+
+// Why an entry found in incoming/ can never be converted, or "" if it can.
+std::string classify(const SpoolLayout& layout, const fs::path& entry, std::string& kind) {
+  const std::string name = entry.filename().string();
+  const fs::path parent = entry.parent_path();
+  std::error_code ec;
+  auto st = fs::symlink_status(entry, ec);
+  if (fs::is_symlink(st))
+    return name + ": symbolic links are not accepted in the hot folder; copy the file instead";
+  if (fs::is_directory(st))
+    return name + ": folders are not accepted in incoming/" +
+           (parent == layout.incoming() ? "" : parent.filename().string() + "/") +
+           "; drop the files themselves";
+  if (!fs::is_regular_file(st)) return name + ": not a regular file";
+  if (parent == layout.incoming()) {
+    if (entry.extension() != ".toml") {
+      return name + ": files must be dropped into incoming/<kind>/ (kinds: " +
+             known_kinds_text() + "); job files NAME.toml name their kind inside";
+    }
+    try {
+      toml::table t = toml::parse_file(entry.string());
+      auto k = t["kind"].value<std::string>();
+      if (!k) return name + ": a job file needs kind = \"...\"";
+      kind = *k;
+    } catch (const toml::parse_error& e) {
+      return name + ":" + std::to_string(e.source().begin.line) + ": " +
+             std::string(e.description());
+    }
+    if (!is_known_kind(kind)) return name + ": unknown kind '" + kind + "'";
+    if (converts_job_file(kind)) return "";
+    return name + ": kind '" + kind + "' converts an image: drop the image into incoming/" +
+           kind + "/ (with an optional sidecar NAME.EXT.toml)";
+  }
+  kind = parent.filename().string();
+  if (!is_known_kind(kind))
+    return name + ": unknown kind '" + kind + "' (folder incoming/" + kind +
+           "/); this build converts: " + known_kinds_text();
+  return "";
+}
+
+}  // namespace
+
+JobService::JobService(Store& store, SpoolLayout layout, ChangeListener on_change)
+    : store_(store), layout_(std::move(layout)), on_change_(std::move(on_change)) {}
+
+void JobService::ensure_layout() const {
+  for (const auto& kind : known_kinds()) fs::create_directories(layout_.incoming(kind));
+  fs::create_directories(layout_.work());
+  fs::create_directories(layout_.done());
+  fs::create_directories(layout_.failed());
+}
+
+void JobService::insert(const Job& job) {
+  store_.insert_job(job);
+  if (on_change_) on_change_({*store_.get(job.id), "", state_name(job.state), job.reason});
+}
+
+std::optional<int64_t> JobService::claim(const fs::path& entry) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(entry, ec))) return std::nullopt;
+  std::string kind;
+  const std::string problem = classify(layout_, entry, kind);
+  const std::string name = entry.filename().string();
+
+  const int64_t id = store_.reserve_id();
+  const fs::path work = layout_.work(id);
+  fs::create_directories(work);
+  write_durable(work / kClaimFile,
+                json_text({{"kind", kind}, {"name", name}, {"problem", problem}}));
+  if (::rename(entry.c_str(), (work / name).c_str()) != 0) {
+    int err = errno;
+    fs::remove_all(work, ec);
+    if (err == ENOENT) return std::nullopt;  // vanished before we got it: not ours to log
+    throw InternalError(entry.string() + ": cannot claim: " + strerror(err));
+  }
+  if (problem.empty()) {
+    for (const std::string& suffix : companion_suffixes()) {
+      fs::path companion = entry.parent_path() / (name + suffix);
+      if (fs::exists(fs::symlink_status(companion, ec)))
+        ::rename(companion.c_str(), (work / (name + suffix)).c_str());
+    }
+  }
+  fsync_dir(work);
+  Job job;
+  job.id = id;
+  job.kind = kind;
+  job.name = name;
+  job.state = JobState::queued;
+  job.reason = problem.empty() ? "dropped into the hot folder" : "rejected at pick-up";
+  job.work_dir = work.string();
+  insert(job);
+  if (!problem.empty()) fail(id, problem);
+  return id;
+}
+
+int64_t JobService::submit(const fs::path& file, const std::string& kind,
+                           const std::string& overrides) {
+  if (!is_known_kind(kind))
+    throw BadInput("unknown kind '" + kind + "'; this build converts: " +
+                             known_kinds_text());
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec))
+    throw BadInput(file.string() + ": not a readable regular file");
+  const int64_t id = store_.reserve_id();
+  const fs::path work = layout_.work(id);
+  fs::create_directories(work);
+  const std::string name = file.filename().string();
+  // The copy is complete before claim.json exists: recover() drops a folder without one, so a
+  // crash mid-copy leaves no half file behind as a job.
+  fs::copy_file(file, work / (".copy-" + name), fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(work / (".copy-" + name), work / name, ec);
+  if (ec) {
+    fs::remove_all(work);
+    throw InternalError(file.string() + ": cannot copy: " + ec.message());
+  }
+  write_durable(work / kClaimFile,
+                json_text({{"kind", kind}, {"name", name}, {"problem", ""}, {"params", overrides}}));
+  fsync_dir(work);
+  Job job;
+  job.id = id;
+  job.kind = kind;
+  job.name = name;
+  job.reason = "submitted with atelierctl";
+  job.work_dir = work.string();
+  job.params = overrides;
+  insert(job);
+  return id;
+}
+
+fs::path JobService::input_of(const Job& job) const { return fs::path(job.work_dir) / job.name; }
+
+void JobService::transition(int64_t id, JobState to, const std::string& reason,
+                            const std::optional<std::string>& device) {
+  auto before = store_.get(id);
+  store_.transition(id, to, reason, std::nullopt, device);
+  if (on_change_ && before)
+    on_change_({*store_.get(id), state_name(before->state), state_name(to), reason});
+}
+
+void JobService::note(int64_t id, const std::string& reason) {
+  store_.note(id, reason);
+  if (!on_change_) return;
+  auto job = store_.get(id);
+  if (job) on_change_({*job, state_name(job->state), state_name(job->state), reason});
+}
+
+void JobService::progress(int64_t id, int64_t done, int64_t total, const std::string& what) {
+  store_.set_progress(id, done, total);
+  if (!on_change_) return;
+  auto job = store_.get(id);
+  if (job) on_change_({*job, state_name(job->state), state_name(job->state), what, true});
+}
+
+void JobService::clean_partial_outputs(const Job& job) const {
+  std::set<std::string> keep = {job.name, kClaimFile};
+  for (const std::string& suffix : companion_suffixes()) keep.insert(job.name + suffix);
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(job.work_dir, ec))
+    if (!keep.count(entry.path().filename().string())) fs::remove_all(entry.path(), ec);
+}
+
+void JobService::move_and_record(const Job& job, const fs::path& folder, JobState to,
+                                 const std::string& reason) {
+  std::error_code ec;
+  if (fs::exists(job.work_dir, ec)) {
+    // finish.json first: a crash between the rename and the row is finished by recover().
+    write_durable(fs::path(job.work_dir) / kFinishFile,
+                  json_text({{"to", state_name(to)}, {"reason", reason}}));
+    fs::remove_all(folder, ec);  // a stale folder from an earlier attempt
+    fs::rename(job.work_dir, folder);
+    fsync_dir(folder.parent_path());
+  }
+  store_.transition(job.id, to, reason, folder.string());
+  // Only now: until the row has changed, claim.json tells recover() what the job was.
+  fs::remove(folder / kClaimFile, ec);
+  fs::remove(folder / kFinishFile, ec);
+  if (on_change_) on_change_({*store_.get(job.id), state_name(job.state), state_name(to), reason});
+}
+
+void JobService::finish_converted(int64_t id, JobState to, const std::string& reason) {
+  auto job = store_.get(id);
+  if (!job) throw BadInput("job " + std::to_string(id) + " does not exist");
+  move_and_record(*job, layout_.done(id), to, reason);
+}
+
+void JobService::fail(int64_t id, const std::string& reason, JobState to) {
+  auto job = store_.get(id);
+  if (!job) throw BadInput("job " + std::to_string(id) + " does not exist");
+  std::error_code ec;
+  if (fs::exists(job->work_dir, ec)) {
+    clean_partial_outputs(*job);
+    write_durable(fs::path(job->work_dir) / kReasonFile, reason + "\n");
+  }
+  move_and_record(*job, layout_.failed(id), to, reason);
+}
+
+void JobService::requeue(int64_t id, const std::string& reason) {
+  auto job = store_.get(id);
+  if (!job) return;
+  clean_partial_outputs(*job);
+  transition(id, JobState::queued, reason);
+}
+
+void JobService::retry(int64_t id) {
+  auto job = store_.get(id);
+  if (!job) throw BadInput("job " + std::to_string(id) + " does not exist");
+  if (!transition_allowed(job->state, JobState::queued))
+    throw BadInput("job " + std::to_string(id) + " is " + state_name(job->state) +
+                             "; only failed, interrupted or canceled jobs can be retried");
+  std::error_code ec;
+  const fs::path work = layout_.work(id);
+  fs::path from = job->output_dir.empty() ? fs::path(job->work_dir) : fs::path(job->output_dir);
+  // An earlier retry may have moved the input already and been cut off before the state change.
+  if (fs::is_regular_file(fs::symlink_status(work / job->name, ec))) from = work;
+  if (fs::exists(fs::symlink_status(from / job->name, ec)) &&
+      !fs::is_regular_file(fs::symlink_status(from / job->name, ec)))
+    throw BadInput("job " + std::to_string(id) + ": " + job->name +
+                             " is not a regular file and can never be converted; drop a copy instead");
+  if (!fs::exists(from / job->name, ec))
+    throw BadInput("job " + std::to_string(id) + ": its input " +
+                             (from / job->name).string() + " is gone; submit the file again");
+  if (from != work) {
+    fs::create_directories(work);
+    std::vector<std::string> suffixes{""};
+    for (const std::string& suffix : companion_suffixes()) suffixes.push_back(suffix);
+    for (const std::string& suffix : suffixes) {
+      fs::path src = from / (job->name + suffix);
+      if (fs::exists(src, ec)) fs::rename(src, work / (job->name + suffix));
+    }
+    fs::remove_all(from, ec);
+  }
+  transition(id, JobState::queued, "retry requested");
+}
+
+bool JobService::finish_cut_off_move(const Job& job) {
+  std::error_code ec;
+  for (const auto& [folder, fallback] : {std::pair{layout_.done(job.id), JobState::completed},
+                                          std::pair{layout_.failed(job.id), JobState::failed}}) {
+    if (!fs::exists(folder, ec)) continue;
+    JobState to = fallback;
+    std::string reason = fallback == JobState::completed ? "converted (recovered after a restart)" : "";
+    try {
+      auto finish = nlohmann::json::parse(read_text(folder / kFinishFile));
+      to = state_from_name(finish.value("to", "")).value_or(fallback);
+      reason = finish.value("reason", reason);
+    } catch (const std::exception&) {
+      if (reason.empty()) {
+        reason = read_text(folder / kReasonFile);
+        while (!reason.empty() && reason.back() == '\n') reason.pop_back();
+      }
+    }
+    store_.transition(job.id, to, reason, folder.string());
+    fs::remove(folder / kFinishFile, ec);
+    fs::remove(folder / kClaimFile, ec);
+    return true;
+  }
+  return false;
+}
+
+std::vector<int64_t> JobService::recover() {
+  std::error_code ec;
+  // 1. Claimed files whose job row never committed (crash between rename and insert).
+  for (const auto& entry : fs::directory_iterator(layout_.work(), ec)) {
+    const std::string dir = entry.path().filename().string();
+    if (dir.empty() || dir.find_first_not_of("0123456789") != std::string::npos) continue;
+    const int64_t id = std::stoll(dir);
+    if (store_.has_job(id)) continue;
+    nlohmann::json claim;
+    try {
+      claim = nlohmann::json::parse(read_text(entry.path() / kClaimFile));
+    } catch (const std::exception&) {
+      claim = nullptr;
+    }
+    std::error_code e2;
+    if (!claim.is_object() ||
+        !fs::exists(fs::symlink_status(entry.path() / claim.value("name", ""), e2))) {
+      fs::remove_all(entry.path(), e2);  // the rename never happened: the file is still in incoming/
+      continue;
+    }
+    Job job;
+    job.id = id;
+    job.kind = claim.value("kind", "");
+    job.name = claim.value("name", "");
+    job.params = claim.value("params", "");
+    job.reason = "recovered after a restart";
+    job.work_dir = entry.path().string();
+    insert(job);
+    const std::string problem = claim.value("problem", "");
+    if (!problem.empty()) fail(id, problem);
+    log::info("job " + dir + ": adopted claimed file " + job.name + " after a restart");
+  }
+  // 2. Jobs caught mid-way by the crash.
+  std::vector<int64_t> queue;
+  JobFilter every;
+  every.limit = -1;  // all jobs, however many
+  for (const auto& job : store_.list(every)) {
+    const bool pending = job.state == JobState::queued || job.state == JobState::converting;
+    if (pending && !fs::exists(job.work_dir, ec) && finish_cut_off_move(job)) continue;
+    if (pending) {
+      // A claim that was rejected (symlink, unknown kind, ...) but whose failure was cut off.
+      std::string problem;
+      try {
+        problem = nlohmann::json::parse(read_text(fs::path(job.work_dir) / kClaimFile)).value("problem", "");
+      } catch (const std::exception&) {
+      }
+      if (!problem.empty()) {
+        fail(job.id, problem);
+        continue;
+      }
+    }
+    if (job.state == JobState::converting) {
+      requeue(job.id, "atelierd restarted during conversion; converting again from scratch");
+      queue.push_back(job.id);
+    } else if (job.state == JobState::queued) {
+      queue.push_back(job.id);
+    } else if (job.state == JobState::running) {
+      transition(job.id, JobState::interrupted,
+                 "atelierd restarted while the machine was working; resume or retry by hand");
+    }
+  }
+  std::sort(queue.begin(), queue.end());
+  return queue;
+}
+
+}  // namespace atelier

@@ -1,0 +1,298 @@
+#include "daemon/knit_device.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "base/error.h"
+#include "convert/kinds.h"
+#include "convert/lace/lace_chart_json.h"
+#include "daemon/log.h"
+#include "drivers/ayab/knit_plan.h"
+#include "drivers/ayab/lace_plan.h"
+
+namespace fs = std::filesystem;
+
+namespace atelier {
+namespace {
+
+// How the user continues a job that stopped after `rows_done` rows; `in_progress` is the
+// note on a lace row stopped part way ("" when none was).
+std::string resume_hint(int64_t id, int rows_done, const std::string& in_progress = "") {
+  return in_progress + "continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
+         std::to_string(rows_done + 1);
+}
+
+// A lace chart the lace carriage cannot knit; what() is the job's failure reason.
+class CannotKnit : public BadInput {
+ public:
+  using BadInput::BadInput;
+};
+
+// What the knitting machine is fed for a job of `kind`: a lace chart or a stitch pattern.
+// BadInput for a kind no knitting machine knits.
+const KindInfo& knitted_kind(const std::string& kind) {
+  const KindInfo* k = find_kind(kind);
+  if (!k || (k->machine_input != MachineInput::lace_chart && k->machine_input != MachineInput::knit_pattern))
+    throw BadInput("a knitting machine cannot knit '" + kind + "' jobs");
+  return *k;
+}
+
+bool is_lace(const std::string& kind) { return knitted_kind(kind).machine_input == MachineInput::lace_chart; }
+
+LaceChartFile read_chart(const fs::path& dir, std::string_view file_name) {
+  const fs::path file = dir / file_name;
+  std::ifstream in(file);
+  if (!in) throw BadInput(file.string() + " cannot be read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return lace_chart_from_json_text(text.str(), file.string());
+}
+
+}  // namespace
+
+KnitDevice::JobPlan KnitDevice::plan_job(const Job& job) const {
+  JobPlan out;
+  const KindInfo& kind = knitted_kind(job.kind);
+  if (kind.machine_input == MachineInput::lace_chart) {
+    const LaceChartFile chart = read_chart(job.output_dir, kind.machine_file);
+    ayab::LacePlanResult res =
+        ayab::plan_lace(chart.chart, chart.cast_on, chart.repeats_wide, chart.repeats_high, plan_params());
+    if (!res.plan) {
+      std::string why = "the lace carriage cannot knit this chart: " + res.problems.front();
+      if (res.problems.size() > 1) why += "; " + std::to_string(res.problems.size() - 1) + " more in report.json";
+      throw CannotKnit(why);
+    }
+    out.plan = std::move(*res.plan);
+    // pattern_row is the chart row of each pass, non-decreasing from 0.
+    const auto& rows = out.plan.pattern_row;
+    for (size_t p = 0; p < rows.size(); ++p)
+      if (p == 0 || rows[p] != rows[p - 1]) out.row_start.push_back(static_cast<int>(p));
+  } else {
+    const fs::path file = fs::path(job.output_dir) / kind.machine_file;
+    cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw BadInput(file.string() + " cannot be read");
+    cv::Mat pattern = image < 128;  // black = contrast = 1
+    pattern /= 255;
+    out.plan = ayab::plan_knitting(pattern, plan_params());
+    for (int r = 0; r < pattern.rows; ++r) out.row_start.push_back(r * out.plan.passes_per_row);
+  }
+  out.row_start.push_back(static_cast<int>(out.plan.passes.size()));
+  return out;
+}
+
+KnitDevice::KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
+                       ayab::SessionTimeouts timeouts)
+    : DeviceWorker(std::move(config), jobs, std::move(resolve)),
+      open_(std::move(open)),
+      timeouts_(timeouts) {}
+
+KnitDevice::~KnitDevice() { stop(); }
+
+void KnitDevice::abort_running() {
+  if (cancel_flag_) cancel_flag_->store(true);
+  if (waiting_link_) waiting_link_->close();
+}
+
+bool KnitDevice::cancel_running(int64_t job_id) {
+  resumes_.erase(job_id);
+  if (current_ != job_id || !cancel_flag_) return false;
+  cancel_flag_->store(true);
+  if (waiting_link_) waiting_link_->close();  // still waiting for the carriage: stop now
+  return true;
+}
+
+void KnitDevice::resume(int64_t job_id, int from_row) {
+  auto job = jobs_.store().get(job_id);
+  if (!job) throw BadInput("no " + job_tag(job_id));
+  if (job->state != JobState::interrupted)
+    throw BadInput(job_tag(job_id) + " is " + state_name(job->state) +
+                             "; only interrupted jobs can be resumed");
+  if (from_row == 0)
+    throw BadInput("say which row to continue from: atelierctl resume " +
+                             std::to_string(job_id) + " --from-row N");
+  int rows = 0;
+  try {
+    rows = plan_job(*job).rows();
+  } catch (const std::exception& e) {
+    throw BadInput(job_tag(job_id) + ": " + e.what());
+  }
+  if (from_row < 1 || from_row > rows)
+    throw BadInput("row " + std::to_string(from_row) + " is outside the " +
+                             (is_lace(job->kind) ? "chart" : "pattern") + " (rows 1 to " + std::to_string(rows) + ")");
+  {
+    std::lock_guard lock(mu_);
+    resumes_[job_id] = from_row;
+  }
+  wake();
+}
+
+ayab::PlanParams KnitDevice::plan_params() const {
+  ayab::PlanParams p;
+  p.machine = *ayab::machine_from_name(config_.machine);
+  p.mode = *ayab::knit_mode_from_name(config_.mode);
+  if (config_.start_needle > 0) p.start_needle = config_.start_needle - 1;
+  p.first_row_top = config_.first_row == "top";
+  p.mirror = config_.mirror;
+  return p;
+}
+
+std::optional<KnitDevice::Work> KnitDevice::next_work() {
+  {
+    std::lock_guard claim(claim_mutex());
+    std::optional<Work> work;
+    {
+      std::lock_guard lock(mu_);
+      while (!work && !resumes_.empty()) {
+        auto [id, row] = *resumes_.begin();
+        resumes_.erase(resumes_.begin());
+        auto job = jobs_.store().get(id);
+        if (job && job->state == JobState::interrupted) work = Work{id, row};
+      }
+    }
+    if (work) {
+      jobs_.transition(work->id, JobState::running,
+                       "knitting on " + config_.name + " from row " + std::to_string(work->from_row),
+                       config_.name);
+      return work;
+    }
+  }
+  if (auto id = claim_ready("knitting on " + config_.name)) return Work{*id, 1};
+  return std::nullopt;
+}
+
+bool KnitDevice::run_next() {
+  auto work = next_work();
+  if (!work) return false;
+  knit(*work);
+  return true;
+}
+
+void KnitDevice::end_early(int64_t id, int rows_done, bool knitting_started, const std::string& in_progress) {
+  if (stopping()) {
+    // Never canceled by a shutdown, and never resumed without an operator.
+    jobs_.transition(id, JobState::interrupted, "atelierd stopped after row " +
+                                                    std::to_string(rows_done) + "; " +
+                                                    resume_hint(id, rows_done, in_progress));
+  } else if (knitting_started) {
+    jobs_.transition(id, JobState::canceled,
+                     "canceled after row " + std::to_string(rows_done) +
+                         "; the machine was sent the blank last line and is ready");
+  } else {
+    jobs_.transition(id, JobState::canceled, "canceled by user before knitting started");
+  }
+}
+
+void KnitDevice::knit(const Work& work) {
+  const int64_t id = work.id;
+  auto job = jobs_.store().get(id);
+  if (!job) return;
+  OnMachine<std::atomic<bool>> on_machine(*this, id, cancel_flag_);
+  std::atomic<bool>& cancel = on_machine.handle();
+  if (stopping()) cancel = true;  // stop() came between the claim and now
+
+  set_state("busy", job_tag(id));
+
+  // Rows knitted so far, counted from 1 as the knitter counts them.
+  int rows_done = work.from_row - 1;
+  bool knitting_started = false;
+  // A lace chart row stopped between its first and last pass: its stitches may have been
+  // moved by the lace carriage and not knitted yet, so resuming that row as planned would
+  // move them again. Said with the resume hint.
+  std::string in_progress;
+  try {
+    const JobPlan job_plan = plan_job(*job);
+    const ayab::KnitPlan& plan = job_plan.plan;
+    const int total_rows = job_plan.rows();
+    jobs_.store().set_progress(id, rows_done, total_rows);
+
+    auto port = resolve_();
+    if (!port) throw LinkLost("the machine is not connected");
+    std::unique_ptr<Transport> link = open_(*port);
+    struct WaitingLink {  // cleared however this scope is left
+      KnitDevice* d;
+      ~WaitingLink() {
+        std::lock_guard lock(d->mu_);
+        d->waiting_link_ = nullptr;
+      }
+    } waiting{this};
+    {
+      std::lock_guard lock(mu_);
+      if (cancel.load()) throw LinkLost("canceled before the machine was ready");
+      waiting_link_ = link.get();
+    }
+    ayab::HostSession session(*link, timeouts_);
+    session.connect();
+    session.init(plan.machine);
+    {
+      std::lock_guard lock(mu_);
+      waiting_link_ = nullptr;
+    }
+    knitting_started = true;
+    const auto& starts = job_plan.row_start;
+    const int from_pass = starts[static_cast<size_t>(work.from_row - 1)];
+    // A lace row is transfers, then knitting: stopped between them, its stitches would sit
+    // moved but unknitted, and resuming from that row would move them again. So a canceled
+    // lace job stops where a chart row begins (the knitter finishes the row in hand). The
+    // daemon stopping does not wait for that.
+    std::atomic<bool> stop_at_row_start{cancel.load()};
+    const bool whole_rows = is_lace(job->kind);
+    session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
+      if (cancel.load() && (stopping() || std::binary_search(starts.begin(), starts.end(), p.passes_done)))
+        stop_at_row_start = true;
+      in_progress.clear();
+      if (whole_rows && !std::binary_search(starts.begin(), starts.end(), p.passes_done)) {
+        const auto next = std::upper_bound(starts.begin(), starts.end(), p.passes_done);
+        const int row = static_cast<int>(next - starts.begin());  // 1-based chart row in hand
+        in_progress = "chart row " + std::to_string(row) + " stopped after " +
+                      std::to_string(p.passes_done - *(next - 1)) + " of its " + std::to_string(*next - *(next - 1)) +
+                      " passes: its stitches may be moved but not knitted; put them back as " +
+                      (row == 1 ? std::string("the cast-on") : "chart row " + std::to_string(row - 1)) +
+                      " left them (or finish the row by hand and resume from row " +
+                      std::to_string(row + 1) + "); ";
+      }
+      // Rows whose every pass is done.
+      rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
+                                   (starts.begin() + 1));
+      std::string what = std::string(whole_rows ? "knitted chart row " : "knitted row ") +
+                         std::to_string(rows_done) + " of " + std::to_string(total_rows);
+      if (!plan.carriage.empty() && p.passes_done < static_cast<int>(plan.carriage.size()))
+        what += plan.carriage[static_cast<size_t>(p.passes_done)] == ayab::Carriage::lace ? "; next: lace carriage"
+                                                                                        : "; next: knit carriage";
+      jobs_.progress(id, rows_done, total_rows, what);
+    }, whole_rows ? stop_at_row_start : cancel);
+    link->close();
+    if (cancel.load()) {
+      end_early(id, rows_done, true, in_progress);
+    } else {
+      jobs_.transition(id, JobState::completed,
+                       "knitted " + std::to_string(total_rows) + " rows on " + config_.name);
+    }
+  } catch (const LinkLost& e) {
+    if (cancel.load() && !knitting_started) {
+      end_early(id, rows_done, false);  // the link was closed on purpose, during the wait
+    } else {
+      set_state("offline", e.what());
+      jobs_.transition(id, JobState::interrupted, "device disconnected after row " +
+                                                      std::to_string(rows_done) + "; " +
+                                                      resume_hint(id, rows_done, in_progress));
+    }
+  } catch (const ayab::AyabError& e) {
+    if (knitting_started) {
+      jobs_.transition(id, JobState::interrupted,
+                       std::string(e.what()) + " (after row " + std::to_string(rows_done) + "; " +
+                           resume_hint(id, rows_done, in_progress) + ")");
+    } else {
+      jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
+    }
+  } catch (const CannotKnit& e) {
+    jobs_.transition(id, JobState::failed, e.what());  // nothing was sent
+  } catch (const std::exception& e) {
+    // The pattern does not fit the machine, or its file is unreadable: nothing was knitted.
+    jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
+  }
+  log::info(job_tag(id) + ": " + jobs_.store().get(id)->reason);
+}
+
+}  // namespace atelier

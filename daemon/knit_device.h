@@ -1,0 +1,88 @@
+// A Brother knitting machine behind AYAB (drivers/ayab/): knits `ready` knit and lace jobs
+// (the kinds in its config) row by row.
+//
+// A knit job is pattern.png (drivers/ayab/knit_plan.h); a lace job is chart.json of its output
+// folder (convert/lace/lace_chart_json.h) planned for the lace carriage
+// (drivers/ayab/lace_plan.h). A chart the lace carriage cannot do fails before the port is
+// opened: "the lace carriage cannot knit this chart: <first problem>[; N more in report.json]".
+// Rows are what the knitter counts: pattern rows for knit, chart rows (repeats_high included)
+// for lace, whose progress also names the carriage the next pass needs.
+//
+// Life of a job here: ready -> running (planned onto the needle bed, session
+// opened, rows sent as the carriage asks) -> completed | canceled (stopped after the current
+// row with the blank last line, so the machine ends clean; a lace job after the current chart
+// row's last pass, its transfers and both knit rows) | interrupted (link lost or machine
+// silent: "device disconnected after row N"; `resume --from-row` continues; a lace chart row
+// stopped between its passes is named, as its stitches may be moved but not knitted) | failed (the
+// pattern does not fit, the firmware is too old, ...).
+// Online/offline: the port is watched while idle (its device node exists, or the USB device
+// maps to a tty); it is only opened for a job, since opening resets an Arduino.
+//
+// Threading: one worker thread (DeviceWorker); public methods are thread-safe.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "daemon/device_worker.h"
+#include "daemon/job_service.h"
+#include "drivers/ayab/host_session.h"
+#include "drivers/transport.h"
+
+namespace atelier {
+
+class KnitDevice : public DeviceWorker {
+ public:
+  // Opens a transport to a port path (SerialTransport::open in the daemon, fakes in tests).
+  using Opener = std::function<std::unique_ptr<Transport>(const std::string& port)>;
+
+  KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
+             ayab::SessionTimeouts timeouts = {});
+  ~KnitDevice() override;
+
+  void resume(int64_t job_id, int from_row) override;
+
+ private:
+  struct Work {
+    int64_t id;
+    int from_row;  // 1-based pattern row to start at
+  };
+  bool run_next() override;
+  bool cancel_running(int64_t job_id) override;
+  void abort_running() override;
+  void describe_more(nlohmann::json& out) const override { out["machine"] = config_.machine; }
+  // Picks the next job (a resume first, then a ready one) and marks it running.
+  std::optional<Work> next_work();
+  void knit(const Work& work);
+  // The job stopped on purpose (cancel, or the daemon stopping): canceled, or interrupted
+  // when the daemon stops (so it is never resumed without an operator).
+  void end_early(int64_t id, int rows_done, bool knitting_started, const std::string& in_progress = "");
+  ayab::PlanParams plan_params() const;
+  // What the job knits: its passes and where each row (counted from 0) starts.
+  struct JobPlan {
+    ayab::KnitPlan plan;
+    std::vector<int> row_start;  // first pass of each row, then passes.size()
+    int rows() const { return static_cast<int>(row_start.size()) - 1; }
+  };
+  // Throws std::runtime_error: unreadable input, a pattern that does not fit, a lace chart
+  // the lace carriage cannot do (then the message is the job's whole failure reason).
+  JobPlan plan_job(const Job& job) const;
+
+  Opener open_;
+  ayab::SessionTimeouts timeouts_;
+
+  // Guarded by mu_ (DeviceWorker's).
+  std::shared_ptr<std::atomic<bool>> cancel_flag_;
+  // The open link while a job waits for the machine to become ready (a person has to move
+  // the carriage, which may never happen): stop() and cancel() close it to end the wait.
+  // Null while rows are being knitted: then cancel ends cleanly after the current row.
+  Transport* waiting_link_ = nullptr;
+  std::map<int64_t, int> resumes_;  // job -> from_row
+};
+
+}  // namespace atelier

@@ -1,0 +1,90 @@
+// A laser cutter behind GRBL 1.1 (drivers/grbl/): runs the G-code of `ready` cut, parquetry
+// and sketch jobs.
+//
+// Safety first: a laser job only starts when an operator says so (`atelierctl start ID`),
+// unless the device has autostart = true; it is never resumed or restarted on its own, after a
+// crash, a daemon stop or a reconnect (the job becomes `interrupted` and needs `retry`).
+// Life of a job here: ready -> running (port opened, banner, $I and $$ read, the job checked
+// against $30 and the travel limits before anything is sent, optionally dry-run in check mode,
+// then streamed) -> completed | canceled (feed hold, soft reset, M5) | failed (G-code error,
+// ALARM, laser mode off, outside the travel) | interrupted (link lost, controller silent,
+// daemon stopped).
+// Progress is the share of G-code lines acknowledged; the device's detail adds the time left.
+//
+// Threading: one worker thread (DeviceWorker); public methods are thread-safe.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include "daemon/device_worker.h"
+#include "drivers/grbl/session.h"
+#include "drivers/transport.h"
+
+namespace atelier {
+
+struct LaserOptions {
+  bool check_first = false;                 // [laser] check_first: dry run in GRBL check mode
+  grbl::StreamMode mode = grbl::StreamMode::character_counting;
+  double frame_feed_mm_min = 3000;          // speed of the beam-off outline trace
+  grbl::Timeouts timeouts;
+};
+
+class LaserDevice : public DeviceWorker {
+ public:
+  using Opener = std::function<std::unique_ptr<Transport>(const std::string& port)>;
+
+  LaserDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
+              LaserOptions options = {});
+  ~LaserDevice() override;
+
+  // `from_row` must be 0: ends a program pause (M0, e.g. a sheet swap) of the running job, or
+  // releases a feed hold on it.
+  void resume(int64_t job_id, int from_row) override;
+  void hold(int64_t job_id) override;
+  // Queues a beam-off trace of a ready job's bounds; the worker runs it when idle. Throws if
+  // the job is not a ready job of this device or the laser is busy.
+  void frame(int64_t job_id) override;
+
+  // The G-code file a converted job of `kind` left in its output folder.
+  static std::string gcode_file_for(const std::string& kind);
+
+ private:
+  bool run_next() override;
+  bool cancel_running(int64_t job_id) override;
+  void abort_running() override;
+  void forget_requests() override;
+  void run_job(int64_t id);
+  // How a job that threw `e` ends and why, in the operator's words; `at` is "at line N of M",
+  // `beam_may_fire` whether the real run had started sending. A lost link also marks the
+  // device offline.
+  struct Ending {
+    JobState state;
+    std::string reason;
+  };
+  Ending ending_for(const Error& e, int64_t id, const std::string& at, bool beam_may_fire);
+  void run_frame(int64_t id);
+  // A job's G-code on a connected controller, checked against it ($30, travel).
+  struct Connection {
+    std::unique_ptr<Transport> link;         // outlives the session that reads it
+    std::unique_ptr<grbl::Session> session;
+    grbl::MachineInfo info;
+    grbl::Program program;
+  };
+  // Reads the job's G-code, opens the port, connects (banner, $I, $$) and checks the job.
+  // Throws LinkLost, grbl::SetupError (nothing sent) or std::runtime_error (unreadable file).
+  Connection connect_for(int64_t id);
+
+  Opener open_;
+  LaserOptions options_;
+
+  // Guarded by mu_ (DeviceWorker's).
+  std::shared_ptr<grbl::Controls> controls_;  // of the job or frame on the machine
+  std::optional<int64_t> frame_request_;
+  bool framing_ = false;  // the job on the machine is being framed, not run
+  bool paused_ = false;   // the job on the machine waits at a program pause (M0)
+};
+
+}  // namespace atelier

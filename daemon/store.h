@@ -1,0 +1,115 @@
+// The job store: SQLite in WAL mode, a versioned schema with migrations, one transaction
+// per state change, and an events table holding each job's history.
+//
+// Thread-safe: one connection guarded by a mutex (SQLite work here is small and short).
+// Times are milliseconds since the Unix epoch (UTC). Errors throw StoreError.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+
+struct sqlite3;
+
+namespace atelier {
+
+class StoreError : public InternalError {
+ public:
+  using InternalError::InternalError;
+};
+
+enum class JobState { queued, converting, ready, running, completed, failed, canceled, interrupted };
+
+std::string state_name(JobState s);                       // "queued", ...
+std::optional<JobState> state_from_name(const std::string& name);
+// True for the allowed edges of the job state machine (DESIGN.md "Job states"):
+// queued->converting|canceled|failed; converting->ready|completed|failed|canceled|queued;
+// ready->running|completed|canceled; running->completed|failed|canceled|interrupted;
+// failed|interrupted|canceled->queued (retry); interrupted->running (resume).
+bool transition_allowed(JobState from, JobState to);
+
+struct Job {
+  int64_t id = 0;
+  std::string kind;
+  std::string name;          // the dropped file's name, e.g. "cat.jpg"
+  JobState state = JobState::queued;
+  std::string reason;        // why it is in its state (failure reason, "canceled by user")
+  std::string device;        // device name, empty when none
+  int64_t created_ms = 0;
+  int64_t updated_ms = 0;
+  std::string work_dir;      // folder holding the claimed input while queued/converting
+  std::string output_dir;    // done/<id> or failed/<id> once finished, else empty
+  std::string params;        // TOML text of the job's own overrides (sidecar, --set)
+  int64_t progress_done = 0;
+  int64_t progress_total = 0;
+};
+
+struct JobEvent {
+  int64_t job_id = 0;
+  int64_t at_ms = 0;
+  std::string from;  // empty for the creation event
+  std::string to;
+  std::string reason;
+};
+
+struct JobFilter {
+  std::optional<JobState> state;
+  std::optional<std::string> kind;
+  int limit = 1000;  // newest first
+};
+
+class Store {
+ public:
+  // Opens or creates the database, sets WAL mode and busy timeout, and migrates the schema
+  // to the latest version. Creates the parent folder if missing.
+  explicit Store(const std::filesystem::path& db_file);
+  ~Store();
+  Store(const Store&) = delete;
+  Store& operator=(const Store&) = delete;
+
+  int schema_version();
+
+  // Reserves a fresh job id (committed at once, never reused, even after a crash).
+  int64_t reserve_id();
+
+  // Inserts a job with a reserved id in state `job.state` (normally queued) and its creation
+  // event, in one transaction. Throws StoreError if the id already has a job.
+  void insert_job(const Job& job);
+  bool has_job(int64_t id);
+
+  // One transaction: checks the edge is allowed (else throws StoreError), updates the job's
+  // state, reason and updated time, and appends an event. Optional fields are set when given.
+  void transition(int64_t id, JobState to, const std::string& reason,
+                  const std::optional<std::string>& output_dir = std::nullopt,
+                  const std::optional<std::string>& device = std::nullopt);
+
+  // A new reason in the same state (e.g. a running laser job paused by its program), with
+  // an event from the state to itself so the history shows it. Throws StoreError if no job.
+  void note(int64_t id, const std::string& reason);
+
+  // Progress does not make an event (it changes too often).
+  void set_progress(int64_t id, int64_t done, int64_t total);
+
+  std::optional<Job> get(int64_t id);
+  std::vector<Job> list(const JobFilter& filter);     // newest first (id descending)
+  std::vector<JobEvent> history(int64_t id);          // oldest first
+  std::map<JobState, int64_t> counts();               // every state, zero included
+
+ private:
+  void exec(const char* sql);
+  void migrate();
+  sqlite3* db_ = nullptr;
+  std::mutex mu_;
+};
+
+// Milliseconds since the Unix epoch, now.
+int64_t now_ms();
+
+}  // namespace atelier
