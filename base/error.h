@@ -22,17 +22,6 @@ enum class ErrorCategory {
   internal,   // the store, the installation or a bug; not the user's doing
 };
 
-// "bad input", "device", "cancelled", "internal".
-inline const char* category_name(ErrorCategory c) {
-  switch (c) {
-    case ErrorCategory::bad_input: return "bad input";
-    case ErrorCategory::device: return "device";
-    case ErrorCategory::cancelled: return "cancelled";
-    case ErrorCategory::internal: return "internal";
-  }
-  return "internal";
-}
-
 class Error : public std::runtime_error {
  public:
   Error(ErrorCategory category, const std::string& what)
