@@ -5,7 +5,7 @@
 
 #include "algorithms/knit/dither.h"
 #include "algorithms/knit/stitch_grid.h"
-#include "tests/unit/knit_test_images.h"
+#include "tests/support/knit_test_images.h"
 
 namespace atelier::knit {
 namespace {

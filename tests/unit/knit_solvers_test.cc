@@ -8,7 +8,7 @@
 #include "algorithms/knit/floats.h"
 #include "algorithms/knit/solvers.h"
 #include "algorithms/knit/stitch_grid.h"
-#include "tests/unit/knit_test_images.h"
+#include "tests/support/knit_test_images.h"
 
 namespace atelier::knit {
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "algorithms/laser/plan.h"
-#include "laser_test_shapes.h"
+#include "tests/support/laser_test_shapes.h"
 
 namespace atelier::laser {
 namespace {

@@ -7,7 +7,7 @@
 #include "algorithms/laser/kerf.h"
 #include "algorithms/laser/nesting.h"
 #include "algorithms/laser/order.h"
-#include "laser_test_shapes.h"
+#include "tests/support/laser_test_shapes.h"
 
 namespace atelier::laser {
 namespace {

@@ -10,7 +10,7 @@
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/texture.h"
 #include "convert/sketch/pencil_profile_file.h"
-#include "tests/unit/pencil_test_lines.h"
+#include "tests/support/pencil_test_lines.h"
 
 namespace atelier::pencil {
 namespace {

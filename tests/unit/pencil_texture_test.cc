@@ -12,7 +12,7 @@
 #include "algorithms/pencil/path.h"
 #include "algorithms/pencil/profile.h"
 #include "algorithms/pencil/texture.h"
-#include "tests/unit/pencil_test_lines.h"
+#include "tests/support/pencil_test_lines.h"
 
 namespace atelier::pencil {
 namespace {
