@@ -1,3 +1,5 @@
+// The local-search solvers of the float constraint (algorithms/knit/solvers.h): no violations
+// left, fewest flips, reproducible seeds, progress and cancel.
 #include <gtest/gtest.h>
 
 #include <random>

@@ -1,3 +1,5 @@
+// Image to stitch grid (algorithms/knit/stitch_grid.h): gauge, orientation, shrinking and
+// alpha.
 #include <gtest/gtest.h>
 
 #include <cmath>

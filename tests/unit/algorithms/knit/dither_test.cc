@@ -1,3 +1,5 @@
+// Dithering a grey stitch grid to the starting 0/1 pattern (algorithms/knit/dither.h):
+// threshold, error diffusion and ordered dithering, and the automatic choice.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>

@@ -1,3 +1,5 @@
+// The Fair-Isle float constraint (algorithms/knit/floats.h): violating windows, relaxed
+// stitches and anchoring.
 #include <gtest/gtest.h>
 
 #include "algorithms/knit/floats.h"
