@@ -1,31 +1,22 @@
-// Single-stroke Hershey text for engraved part IDs: placement, size, rotation, errors.
-// Uses the real fonts from Debian's hershey-fonts-data.
+// Single-stroke Hershey text for engraved part IDs (algorithms/laser/hershey_text.h):
+// placement, size, rotation, errors. Uses the real fonts from Debian's hershey-fonts-data.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "algorithms/laser/hershey_text.h"
-#include "convert/common/hershey_fonts.h"
+#include "tests/unit/convert/common/hershey_fonts_fixture.h"
 
 namespace atelier::laser {
 namespace {
 
-const HersheyFont& font_named(const std::string& name) { return atelier::hershey_font(name); }
-const HersheyFont& rowmans() { return font_named("rowmans"); }
+using testing::font_named;
+using testing::same_strokes;
 
-bool same_strokes(const std::vector<Path>& a, const std::vector<Path>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i].points.size() != b[i].points.size()) return false;
-    for (size_t j = 0; j < a[i].points.size(); ++j)
-      if (distance(a[i].points[j], b[i].points[j]) > 1e-9) return false;
-  }
-  return true;
-}
+const HersheyFont& rowmans() { return font_named("rowmans"); }
 
 TEST(LaserHershey, DigitsSitOnTheBaselineAtTheCapHeight) {
   const Point base{10, 50};
@@ -130,18 +121,6 @@ TEST(LaserHershey, CentredTextHasItsInkCentreOnThePoint) {
   EXPECT_NEAR(c.max_y - c.min_y, a.max_y - a.min_y, 1e-9);
 }
 
-TEST(LaserHershey, MissingFontNamesTheFile) {
-  try {
-    hershey_text(font_named("nosuchfont"), "1", {0, 0}, 5, 0);
-    FAIL() << "expected std::runtime_error";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("nosuchfont.jhf"), std::string::npos) << what;
-    EXPECT_NE(what.find("not found"), std::string::npos) << what;
-  }
-  EXPECT_THROW(hershey_text(font_named("../etc/passwd"), "1", {0, 0}, 5, 0), std::invalid_argument);
-}
-
 TEST(LaserHershey, RejectsCharactersWithoutGlyphsAndBadSizes) {
   try {
     hershey_text(rowmans(), "A\xc3\xa9", {0, 0}, 5);
@@ -152,17 +131,6 @@ TEST(LaserHershey, RejectsCharactersWithoutGlyphsAndBadSizes) {
   EXPECT_THROW(hershey_text(rowmans(), "A\nB", {0, 0}, 5), std::invalid_argument);
   EXPECT_THROW(hershey_text(rowmans(), "1", {0, 0}, 0), std::invalid_argument);
   EXPECT_THROW(hershey_text(rowmans(), "1", {0, 0}, NAN), std::invalid_argument);
-}
-
-TEST(LaserHershey, ConcurrentFirstUseLoadsOneConsistentFont) {
-  // "scripts" is used by no other test, so these threads race to load it.
-  std::vector<std::vector<Path>> results(4);
-  std::vector<std::thread> threads;
-  for (size_t i = 0; i < results.size(); ++i)
-    threads.emplace_back([&, i] { results[i] = hershey_text(font_named("scripts"), "Ab3", {1, 2}, 6, 15); });
-  for (auto& t : threads) t.join();
-  ASSERT_FALSE(results[0].empty());
-  for (size_t i = 1; i < results.size(); ++i) EXPECT_TRUE(same_strokes(results[0], results[i]));
 }
 
 }  // namespace

@@ -1,23 +1,19 @@
-// Paper section 4 end to end (segment.h): colours, components, stitch styles, regions.
+// Paper section 4 end to end (algorithms/embroidery/segment.h): stitch styles of drawn shapes,
+// region masks, bad input.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <cmath>
 #include <map>
-#include <string>
 
 #include "algorithms/embroidery/segment.h"
+#include "tests/unit/algorithms/embroidery/segment_fixture.h"
 
 namespace atelier::embroidery {
 namespace {
 
-cv::Mat load(const std::string& name, int flags = cv::IMREAD_COLOR) {
-  cv::Mat m = cv::imread(std::string(ATELIER_TEST_DATA) + "/" + name, flags);
-  EXPECT_FALSE(m.empty()) << name;
-  return m;
-}
+using test::load;
+using test::segment_drawing;
 
 // The style most of the shape's pixels (non-zero in `shape`) were given; counts unsewn too.
 std::map<int, int> styles_under(const Segmentation& s, const cv::Mat1b& shape) {
@@ -35,13 +31,6 @@ Style majority(const std::map<int, int>& count) {
   for (const auto& [k, v] : count)
     if (v > n) best = k, n = v;
   return Style(best);
-}
-
-// A drawing: black shapes on a white sheet, as in the issue (eW 4 px, sW 24 px).
-Segmentation segment_drawing(const cv::Mat1b& shape) {
-  cv::Mat3b img(shape.size(), cv::Vec3b(255, 255, 255));
-  img.setTo(cv::Vec3b(0, 0, 0), shape);
-  return segment(img, ColorParams{}, LabelParams{});
 }
 
 TEST(EmbroiderySegment, ThinLineBecomesEdgeStitch) {
@@ -100,88 +89,6 @@ TEST(EmbroiderySegment, RaggedNoisyBlobIsForcedToLongShort) {
   EXPECT_GE(s.components_forced_long_short, 1);
   ASSERT_FALSE(s.regions.empty());
   for (const Region& r : s.regions) EXPECT_EQ(r.style, Style::long_short);
-}
-
-cv::Vec3f lab_of(cv::Vec3b bgr) {
-  cv::Mat3f one(1, 1, cv::Vec3f(bgr[0] / 255.f, bgr[1] / 255.f, bgr[2] / 255.f)), lab;
-  cv::cvtColor(one, lab, cv::COLOR_BGR2Lab);
-  return lab.at<cv::Vec3f>(0, 0);
-}
-
-TEST(EmbroideryColors, FourFlatColoursWithNoiseGiveFourPaletteColours) {
-  const cv::Vec3b truth[4] = {{40, 40, 200}, {200, 60, 30}, {50, 170, 60}, {30, 200, 230}};
-  cv::Mat3b img(200, 200);
-  for (int q = 0; q < 4; ++q) img(cv::Rect((q % 2) * 100, (q / 2) * 100, 100, 100)).setTo(truth[q]);
-  cv::Mat noise(img.size(), CV_16SC3);
-  cv::randn(noise, 0, 8);
-  cv::Mat sum;
-  img.convertTo(sum, CV_16SC3);
-  cv::add(sum, noise, sum);
-  sum.convertTo(img, CV_8UC3);
-  const Segmentation s = segment(img, ColorParams{}, LabelParams{});
-  ASSERT_EQ(s.palette.bgr.size(), 4u);
-  for (const cv::Vec3b& t : truth) {
-    double nearest = 1e9;
-    for (const cv::Vec3f& p : s.palette.lab) nearest = std::min(nearest, cv::norm(p - lab_of(t)));
-    EXPECT_LT(nearest, 3.0) << "no palette colour near " << cv::Mat(t).t();
-  }
-  EXPECT_EQ(s.components, 4);
-}
-
-TEST(EmbroideryColors, AskedNumberOfColoursIsWhatYouGet) {
-  const cv::Mat img = load("fruits.jpg");
-  for (int n : {3, 7}) {
-    ColorParams cp;
-    cp.colors = n;
-    cp.background = Background::sew;
-    const Segmentation s = segment(img, cp, LabelParams{});
-    EXPECT_EQ(s.palette.bgr.size(), static_cast<size_t>(n));
-    EXPECT_EQ(s.palette.lab.size(), static_cast<size_t>(n));
-  }
-}
-
-TEST(EmbroideryColors, WhiteSheetOfADrawingIsNotSewnUnlessAsked) {
-  cv::Mat1b shape(200, 200, uchar(0));
-  cv::circle(shape, {100, 100}, 50, 255, cv::FILLED);
-  const Segmentation s = segment_drawing(shape);
-  ASSERT_EQ(s.palette.bgr.size(), 1u) << "only the ink is a thread";
-  EXPECT_LT(s.palette.lab[0][0], 20) << "the thread is the black ink";
-  EXPECT_EQ(s.color_index(5, 5), -1);
-  EXPECT_EQ(s.region_id(5, 5), -1);
-  // All of the disk is sewn (the median filter may round a few boundary pixels).
-  EXPECT_NEAR(cv::countNonZero(s.color_index >= 0), cv::countNonZero(shape), 0.01 * cv::countNonZero(shape));
-  EXPECT_EQ(s.color_index(100, 100), 0);
-
-  cv::Mat3b img(shape.size(), cv::Vec3b(255, 255, 255));
-  img.setTo(cv::Vec3b(0, 0, 0), shape);
-  ColorParams sew;
-  sew.background = Background::sew;
-  const Segmentation all = segment(img, sew, LabelParams{});
-  EXPECT_EQ(all.palette.bgr.size(), 2u);
-  EXPECT_EQ(cv::countNonZero(all.color_index >= 0), img.rows * img.cols);
-}
-
-TEST(EmbroideryColors, TransparentPixelsOfTheLogoAreNotSewn) {
-  const cv::Mat img = load("opencv-logo.png", cv::IMREAD_UNCHANGED);
-  ASSERT_EQ(img.type(), CV_8UC4);
-  ColorParams sew;
-  sew.background = Background::sew;  // even when asked to sew everything
-  const Segmentation s = segment(img, sew, LabelParams{});
-  int transparent = 0, opaque_sewn = 0, opaque = 0;
-  for (int y = 0; y < img.rows; ++y)
-    for (int x = 0; x < img.cols; ++x) {
-      if (img.at<cv::Vec4b>(y, x)[3] < 128) {
-        ++transparent;
-        ASSERT_EQ(s.color_index(y, x), -1) << x << "," << y;
-        ASSERT_EQ(s.region_id(y, x), -1) << x << "," << y;
-      } else {
-        ++opaque;
-        opaque_sewn += s.region_id(y, x) >= 0;
-      }
-    }
-  EXPECT_GT(transparent, 0);
-  EXPECT_GT(opaque_sewn, opaque * 95 / 100) << "the logo itself is sewn";
-  EXPECT_GE(s.palette.bgr.size(), 3u) << "red, green and blue rings";
 }
 
 TEST(EmbroiderySegment, RegionMasksTileTheSewnPixelsOfARealImage) {
