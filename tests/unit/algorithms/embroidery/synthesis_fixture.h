@@ -20,7 +20,8 @@ inline cv::Vec3f lab_of(const cv::Vec3b& bgr) {
 
 // A segmentation from a label image (-1 = not sewn, i = region i), one palette colour and one
 // style per region.
-inline Segmentation make_seg(const cv::Mat1i& labels, const std::vector<cv::Vec3b>& bgr, const std::vector<Style>& styles) {
+inline Segmentation make_seg(const cv::Mat1i& labels, const std::vector<cv::Vec3b>& bgr,
+                             const std::vector<Style>& styles) {
   Segmentation seg;
   seg.size = labels.size();
   seg.region_id = labels.clone();

@@ -1,9 +1,7 @@
-// Needle placement, knitting modes and row order of the AYAB knit plan, and the 256-row
-// line tracker of the host session.
+// Needle placement, knitting modes and row order of the AYAB knit plan (drivers/ayab/knit_plan.h).
 #include <gtest/gtest.h>
 
 #include "drivers/ayab/knit_plan.h"
-#include "drivers/ayab/line_tracker.h"
 
 namespace atelier::ayab {
 namespace {
@@ -154,32 +152,6 @@ TEST(AyabKnitPlan, ModeNames) {
   EXPECT_EQ(knit_mode_from_name("circular"), KnitMode::circular);
   EXPECT_FALSE(knit_mode_from_name("heart-of-pluto"));
   EXPECT_EQ(knit_mode_name(KnitMode::classic_ribber), "classic-ribber");
-}
-
-TEST(AyabLineTracker, WrapsAt256AndKeepsTheAbsoluteCount) {
-  LineTracker t;
-  for (int k = 0; k < 600; ++k) {
-    const auto r = t.on_request(static_cast<uint8_t>(k & 0xFF));
-    ASSERT_EQ(r.kind, LineTracker::Kind::next) << k;
-    ASSERT_EQ(r.line, k);
-  }
-  EXPECT_EQ(t.expected(), 600);
-}
-
-TEST(AyabLineTracker, RepeatAndOutOfSequence) {
-  LineTracker t;
-  EXPECT_EQ(t.on_request(1).kind, LineTracker::Kind::out_of_sequence);  // must start at 0
-  EXPECT_EQ(t.on_request(0).kind, LineTracker::Kind::next);
-  const auto again = t.on_request(0);
-  EXPECT_EQ(again.kind, LineTracker::Kind::repeat);
-  EXPECT_EQ(again.line, 0);
-  for (int k = 1; k <= 256; ++k) t.on_request(static_cast<uint8_t>(k & 0xFF));
-  const auto rep = t.on_request(0);  // line 256 again, on the wire as 0
-  EXPECT_EQ(rep.kind, LineTracker::Kind::repeat);
-  EXPECT_EQ(rep.line, 256);
-  const auto bad = t.on_request(5);
-  EXPECT_EQ(bad.kind, LineTracker::Kind::out_of_sequence);
-  EXPECT_EQ(bad.line, 257);
 }
 
 }  // namespace

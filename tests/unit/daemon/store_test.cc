@@ -4,10 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
-#include <unistd.h>
 
-#include <algorithm>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -16,30 +13,16 @@
 #include <thread>
 
 #include "daemon/store_schema.h"
+#include "tests/unit/daemon/store_fixture.h"
 
 namespace atelier {
 namespace {
 
 namespace fs = std::filesystem;
-using S = JobState;
-
-const std::vector<JobState> kAllStates = {S::queued,    S::converting, S::ready,
-                                          S::running,   S::completed,  S::failed,
-                                          S::canceled,  S::interrupted};
-
-// The edges DESIGN.md "Job states" and store.h allow, written out independently of the code.
-const std::set<std::pair<JobState, JobState>> kAllowed = {
-    {S::queued, S::converting},     {S::queued, S::canceled},
-    {S::queued, S::failed},  // rejected at pick-up (symlink, unknown kind, ...)
-    {S::converting, S::ready},      {S::converting, S::completed},
-    {S::converting, S::failed},     {S::converting, S::canceled},
-    {S::converting, S::queued},     {S::ready, S::running},
-    {S::ready, S::completed},       {S::ready, S::canceled},
-    {S::running, S::completed},     {S::running, S::failed},
-    {S::running, S::canceled},      {S::running, S::interrupted},
-    {S::failed, S::queued},         {S::interrupted, S::queued},
-    {S::canceled, S::queued},       {S::interrupted, S::running},
-};
+using test::kAllowed;
+using test::kAllStates;
+using test::S;
+using test::StoreTest;
 
 // The version-1 schema exactly as released, so an old database can be built by hand. This
 // copy is deliberately separate from store_schema.cc: if someone edits step 1 there, old
@@ -112,65 +95,6 @@ class RawDb {
   sqlite3* db_ = nullptr;
 };
 
-class StoreTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("atelier-store-" + std::to_string(getpid()) + "-" +
-                                        info->test_suite_name() + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // In a folder that does not exist yet: the Store must create it.
-  fs::path db_path() const { return dir_ / "state" / "jobs.sqlite"; }
-
-  static Job make_job(int64_t id, const std::string& kind, const std::string& name) {
-    Job j;
-    j.id = id;
-    j.kind = kind;
-    j.name = name;
-    j.work_dir = "/spool/work/" + std::to_string(id);
-    return j;
-  }
-
-  // Reserves an id and inserts a queued job with it.
-  static int64_t add_job(Store& store, const std::string& kind = "knit",
-                         const std::string& name = "cat.jpg") {
-    int64_t id = store.reserve_id();
-    store.insert_job(make_job(id, kind, name));
-    return id;
-  }
-
-  // Shortest chain of allowed edges from queued to `target` (empty for queued itself).
-  static std::vector<JobState> path_to(JobState target) {
-    std::map<JobState, JobState> parent;
-    std::deque<JobState> todo = {S::queued};
-    std::set<JobState> seen = {S::queued};
-    while (!todo.empty()) {
-      JobState at = todo.front();
-      todo.pop_front();
-      for (const auto& [from, to] : kAllowed) {
-        if (from == at && seen.insert(to).second) {
-          parent[to] = at;
-          todo.push_back(to);
-        }
-      }
-    }
-    std::vector<JobState> path;
-    for (JobState s = target; s != S::queued; s = parent.at(s)) path.push_back(s);
-    std::reverse(path.begin(), path.end());
-    return path;
-  }
-
-  static void drive_to(Store& store, int64_t id, JobState target) {
-    for (JobState s : path_to(target)) store.transition(id, s, "on the way to " + state_name(target));
-  }
-
-  fs::path dir_;
-};
-
 void expect_same_job(const Job& a, const Job& b) {
   EXPECT_EQ(a.id, b.id);
   EXPECT_EQ(a.kind, b.kind);
@@ -208,24 +132,6 @@ std::string error_of(const std::function<void()>& f) {
   return "";
 }
 
-// ---- states ---------------------------------------------------------------------------
-
-TEST(StoreStates, NamesRoundTripAndUnknownNamesAreRejected) {
-  for (JobState s : kAllStates) EXPECT_EQ(state_from_name(state_name(s)), s);
-  EXPECT_EQ(state_name(S::interrupted), "interrupted");
-  EXPECT_FALSE(state_from_name("Queued").has_value());
-  EXPECT_FALSE(state_from_name("").has_value());
-}
-
-TEST(StoreStates, AllowedEdgesMatchTheDesign) {
-  for (JobState from : kAllStates) {
-    for (JobState to : kAllStates) {
-      EXPECT_EQ(transition_allowed(from, to), kAllowed.count({from, to}) == 1)
-          << state_name(from) << " -> " << state_name(to);
-    }
-  }
-}
-
 // ---- schema ---------------------------------------------------------------------------
 
 TEST_F(StoreTest, FreshDatabaseIsWalAtLatestVersion) {
@@ -244,13 +150,6 @@ TEST_F(StoreTest, FreshDatabaseIsWalAtLatestVersion) {
     EXPECT_EQ(raw.integer(std::string("SELECT COUNT(*) FROM sqlite_master WHERE type = 'index' "
                                       "AND name = '") + index + "'"), 1) << index;
   }
-}
-
-TEST_F(StoreTest, MigrationStepsAreNumberedInOrder) {
-  const auto& steps = schema_migrations();
-  ASSERT_FALSE(steps.empty());
-  for (size_t i = 0; i < steps.size(); ++i) EXPECT_EQ(steps[i].to_version, static_cast<int>(i) + 1);
-  EXPECT_EQ(latest_schema_version(), steps.back().to_version);
 }
 
 TEST_F(StoreTest, MigratesVersionOneDatabaseKeepingItsRows) {
