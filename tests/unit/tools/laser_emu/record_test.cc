@@ -1,12 +1,10 @@
-// The laser emulator's record (JSON) and render (PNG pixels), the G-code arc flattening and
-// the command-line fault parsing.
+// The laser emulator's record (tools/laser_emu/record.h): JSON with every field, the segment
+// under way, and the render (PNG pixels).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "tests/unit/laser_emu_rig.h"
-#include "tools/laser_emu/faults.h"
-#include "tools/laser_emu/gcode.h"
 
 namespace atelier::laser_emu {
 namespace {
@@ -78,52 +76,6 @@ TEST(LaserEmuRecord, RenderIsDarkWhereBurnedAndWhiteElsewhere) {
   EXPECT_EQ(img.at<uint8_t>(400 - 20 * 5, 20 * 5), 255);  // inside the square
   EXPECT_EQ(img.at<uint8_t>(400 - 5 * 5, 5 * 5), 255);    // the G0 travel leaves no mark
   EXPECT_EQ(img.at<uint8_t>(400 - 10 * 5, 31 * 5), 255);  // just past the corner
-}
-
-TEST(LaserEmuGcode, ArcsAreCutIntoChordsOnTheCircle) {
-  Settings settings(400, 400);
-  GcState state;
-  const LineResult r = execute_gcode_line("G2X10Y0I5J0F100", state, settings);
-  ASSERT_EQ(r.status, 0);
-  // GRBL's count: floor(0.5 * pi * 5 / sqrt(0.002 * (2 * 5 - 0.002))) chords.
-  ASSERT_EQ(r.actions.size(), 55u);
-  for (const Action& a : r.actions) {
-    EXPECT_EQ(a.kind, Action::Kind::line);
-    EXPECT_NEAR(std::hypot(a.target[0] - 5, a.target[1]), 5.0, 1e-9);
-    EXPECT_GE(a.target[1], -1e-9);  // clockwise from (0,0) to (10,0) passes over the top
-  }
-  EXPECT_EQ(r.actions.back().target, (Vec3{10, 0, 0}));
-  EXPECT_EQ(state.position, (Vec3{10, 0, 0}));
-  EXPECT_EQ(state.motion, 2);
-}
-
-TEST(LaserEmuGcode, InchesAndIncrementalAndG92) {
-  Settings settings(400, 400);
-  GcState state;
-  ASSERT_EQ(execute_gcode_line("G20G91G0X1", state, settings).status, 0);
-  EXPECT_DOUBLE_EQ(state.position[0], 25.4);
-  ASSERT_EQ(execute_gcode_line("G21G90G92X0", state, settings).status, 0);
-  const LineResult r = execute_gcode_line("G0X10", state, settings);
-  ASSERT_EQ(r.status, 0);
-  EXPECT_DOUBLE_EQ(r.actions.back().target[0], 35.4);  // work X10 = machine 35.4
-  EXPECT_EQ(state.modes_report(), "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]");
-}
-
-TEST(LaserEmuFaults, SpecsAndWorkArea) {
-  Faults f;
-  EXPECT_EQ(apply_fault("drop-at-line=12", f), "");
-  EXPECT_EQ(f.drop_at_line, 12);
-  EXPECT_EQ(apply_fault("alarm-at-line=7:2", f), "");
-  EXPECT_EQ(f.alarm_at_line, 7);
-  EXPECT_EQ(f.alarm_code, 2);
-  EXPECT_EQ(apply_fault("stall-at-line=3", f), "");
-  EXPECT_EQ(f.stall_at_line, 3);
-  EXPECT_NE(apply_fault("stall-at-line=0", f), "");
-  EXPECT_NE(apply_fault("alarm-at-line=5:99", f), "");
-  EXPECT_NE(apply_fault("explode=1", f).find("unknown fault"), std::string::npos);
-  EXPECT_EQ(parse_work_area("300x200"), (std::pair<double, double>{300, 200}));
-  EXPECT_FALSE(parse_work_area("300"));
-  EXPECT_FALSE(parse_work_area("0x200"));
 }
 
 }  // namespace

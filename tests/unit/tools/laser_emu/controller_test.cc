@@ -1,5 +1,7 @@
-// The laser emulator's serial side: 115200-baud byte timing, the 128-byte receive buffer and
-// its overflow, real-time bytes, and the planner blocking the receive buffer.
+// The GRBL 1.1h laser controller model (tools/laser_emu/controller.h), in virtual time, no pty:
+// the line protocol (banner, $ commands, line filtering, check mode, alarm lock) and the serial
+// side (115200-baud byte timing, the 128-byte receive buffer and its overflow, real-time bytes,
+// the planner blocking the receive buffer).
 #include <gtest/gtest.h>
 
 #include <deque>
@@ -10,6 +12,87 @@ namespace atelier::laser_emu {
 namespace {
 
 using testing::Rig;
+
+TEST(LaserEmuProtocol, BannerAtPowerOnPacedAtTheBaudRate) {
+  Rig rig;
+  rig.run(1000);  // 1 ms: at 86.8 us per byte only 11 of the banner's 29 bytes are out
+  EXPECT_EQ(rig.out.size(), 11u);
+  rig.run(5000);
+  EXPECT_EQ(rig.take(), "\r\nGrbl 1.1h ['$' for help]\r\n");
+  EXPECT_EQ(rig.ctl.state_name(), "Idle");
+}
+
+TEST(LaserEmuProtocol, BuildInfoAndSettings) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("$I"), "[VER:1.1h.20190825:]\r\n[OPT:V,15,128]\r\nok\r\n");
+  const std::string settings = rig.exchange("$$");
+  EXPECT_EQ(settings.rfind("$0=10\r\n$1=25\r\n", 0), 0u) << settings;
+  for (const char* line : {"$10=1\r\n", "$20=1\r\n", "$22=0\r\n", "$30=1000\r\n", "$31=0\r\n", "$32=1\r\n",
+                           "$110=6000.000\r\n", "$120=500.000\r\n", "$130=400.000\r\n", "$131=400.000\r\n"})
+    EXPECT_NE(settings.find(line), std::string::npos) << line;
+  EXPECT_EQ(settings.substr(settings.size() - 4), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("$N"), "$N0=\r\n$N1=\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("$"), "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]\r\nok\r\n");
+}
+
+TEST(LaserEmuProtocol, LinesLongerThanTheLineBufferAreError11) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("G0X" + std::string(76, '0')), "ok\r\n");         // 79 characters fit
+  EXPECT_EQ(rig.exchange("G0X" + std::string(77, '0')), "error:11\r\n");   // 80 do not
+  // Spaces and comments do not count.
+  EXPECT_EQ(rig.exchange("G0 X1 " + std::string(100, ' ') + "(" + std::string(100, 'c') + ")"), "ok\r\n");
+}
+
+TEST(LaserEmuProtocol, FilteringCommentsCaseAndLineEnds) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("g21 (millimetres) g90 ; absolute"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("(just a comment)"), "ok\r\n");
+  EXPECT_EQ(rig.exchange(""), "ok\r\n");
+  rig.send("G21\r\n");  // CR and LF each end a line, as in protocol.c
+  rig.run(5000);
+  EXPECT_EQ(rig.take(), "ok\r\nok\r\n");
+  EXPECT_EQ(rig.ctl.lines_received(), 5);
+}
+
+TEST(LaserEmuProtocol, CheckModeParsesWithoutMotionAndLeavesWithAReset) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("$C"), "[MSG:Enabled]\r\nok\r\n");
+  EXPECT_EQ(rig.ctl.state(), MachineState::check);
+  EXPECT_EQ(rig.exchange("G1 X50 Y20 F1000 M4 S800"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("G1 X10"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("G1 Q1"), "error:20\r\n");
+  rig.send("?");
+  rig.run(10000);
+  EXPECT_EQ(rig.take().rfind("<Check|MPos:0.000,0.000,0.000|FS:0,0", 0), 0u);
+  EXPECT_EQ(rig.ctl.planner_blocks(), 0);
+  EXPECT_TRUE(rig.record.segments.empty());
+  EXPECT_EQ(rig.exchange("$C"), "[MSG:Disabled]\r\nok\r\n");
+  rig.run(5000);
+  EXPECT_EQ(rig.take(), "\r\nGrbl 1.1h ['$' for help]\r\n");
+  EXPECT_EQ(rig.ctl.state(), MachineState::idle);
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]\r\nok\r\n");  // parser reset
+}
+
+TEST(LaserEmuProtocol, UnlockAndCheckModeNeedTheRightState) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("$X"), "ok\r\n");  // no alarm: no effect
+  rig.send("G0 X500\n");                    // outside the 400 mm work area
+  ASSERT_TRUE(rig.run_until("[MSG:Reset to continue]\r\n"));
+  rig.send("\x18");
+  ASSERT_TRUE(rig.run_until("[MSG:'$H'|'$X' to unlock]\r\n"));
+  rig.take();
+  EXPECT_EQ(rig.exchange("$C"), "error:8\r\n");
+  EXPECT_EQ(rig.exchange("G0 X1"), "error:9\r\n");
+  EXPECT_EQ(rig.exchange("$I").substr(0, 5), "[VER:");  // $ commands work in Alarm
+  EXPECT_EQ(rig.exchange("$X"), "[MSG:Caution: Unlocked]\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("G0 X1"), "ok\r\n");
+}
 
 constexpr double kByteUs = 1e6 * 10 / 115200;  // 86.8 us
 
