@@ -1,6 +1,5 @@
-// The pencil texture (algorithms/pencil/texture.h, Meraj et al. 2008, section 3.2): lines drawn
-// with a profile match its statistics better than noise, for a learned profile and every
-// shipped pencil, and a profile re-learned from a drawn line reproduces the original.
+// The pencil texture (algorithms/pencil/texture.h, Meraj et al. 2008, 3.2): drawn lines match their
+// profile (a learned one, every shipped pencil) better than noise, and re-learn to the original.
 #include <gtest/gtest.h>
 
 #include <cmath>

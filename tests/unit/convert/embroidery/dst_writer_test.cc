@@ -1,6 +1,5 @@
-// DST stitch files (convert/embroidery/dst_writer.h) checked by a reader written from the
-// formats file (shared/protocols/embroidery-formats.md), independently of the writer: record
-// bytes and ranges, the header against the decoded body, end code, long moves split, trims, label.
+// DST files (convert/embroidery/dst_writer.h) read by a reader written from the formats file, not
+// the writer: record bytes and ranges, header against body, end code, split moves, trims, label.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,5 @@
-// One hand-drawn line (`atelier-convert line`, convert/sketch/line_job.h, issue 8): the line runs
-// between its end points in the canvas the report describes, is dark along its path and paper
-// white away from it, is reproducible by seed; bad parameters name their key.
+// One hand-drawn line (convert/sketch/line_job.h, issue 8): between its end points in the canvas the
+// report describes, dark on its path and white away from it, reproducible by seed; bad keys named.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

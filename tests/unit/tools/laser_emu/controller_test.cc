@@ -1,7 +1,5 @@
-// The GRBL 1.1h laser controller model (tools/laser_emu/controller.h), in virtual time, no pty:
-// the line protocol (banner, $ commands, line filtering, check mode, alarm lock) and the serial
-// side (115200-baud byte timing, the 128-byte receive buffer and its overflow, real-time bytes,
-// the planner blocking the receive buffer).
+// The GRBL 1.1h laser controller model (tools/laser_emu/controller.h), in virtual time: the line
+// protocol ($ commands, filtering, check mode, alarm lock) and the serial side (baud rate, 128-byte buffer).
 #include <gtest/gtest.h>
 
 #include <deque>
