@@ -1,7 +1,7 @@
 // The registry of job kinds: everything the daemon, atelier-convert and the devices need to
 // know about a kind, in one table. Kind names ("knit", ...) and the names of the files a
 // machine is fed appear as literals only here (kinds.cc) and in the kind's own folder under
-// convert/; everywhere else asks the registry (tests/unit/kinds_test.cc greps the tree).
+// convert/; everywhere else asks the registry (tests/unit/convert/kinds_test.cc greps the tree).
 //
 // To add a kind: a folder convert/<kind>/ with its params reader and converter, one entry in
 // kinds.cc, and (if a machine runs it) the driver names that take it.

@@ -1,0 +1,40 @@
+// GRBL's global settings in the laser emulator (tools/laser_emu/settings.h): the work area as
+// soft limits, and values stored with GRBL's checks.
+#include <gtest/gtest.h>
+
+#include "tests/unit/laser_emu_rig.h"
+
+namespace atelier::laser_emu {
+namespace {
+
+using testing::Rig;
+
+TEST(LaserEmuProtocol, WorkAreaBecomesTheSoftLimits) {
+  ControllerOptions o;
+  o.work_w_mm = 300;
+  o.work_h_mm = 200;
+  Rig rig(o);
+  rig.boot();
+  const std::string settings = rig.exchange("$$");
+  EXPECT_NE(settings.find("$130=300.000\r\n$131=200.000\r\n"), std::string::npos);
+}
+
+TEST(LaserEmuProtocol, SettingsAreStoredWithGrblsChecks) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("$10=3"), "ok\r\n");
+  EXPECT_NE(rig.exchange("$$").find("$10=3\r\n"), std::string::npos);
+  EXPECT_EQ(rig.exchange("$100=-5"), "error:4\r\n");
+  EXPECT_EQ(rig.exchange("$0=2"), "error:6\r\n");
+  EXPECT_EQ(rig.exchange("$20=1"), "error:10\r\n");  // soft limits need homing ($22)
+  EXPECT_EQ(rig.exchange("$7=1"), "error:3\r\n");
+  EXPECT_EQ(rig.exchange("$300=1"), "error:3\r\n");
+  EXPECT_EQ(rig.exchange("$$$"), "error:3\r\n");
+  EXPECT_EQ(rig.exchange("$H"), "error:5\r\n");  // homing disabled
+  EXPECT_EQ(rig.exchange("$22=1"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$20=1"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$H"), "ok\r\n");
+}
+
+}  // namespace
+}  // namespace atelier::laser_emu
