@@ -33,8 +33,8 @@ std::string trim(std::string s) {
 
 }  // namespace
 
-SubprocessRunner::SubprocessRunner(fs::path convert_exe, uint64_t memory_limit_bytes)
-    : exe_(std::move(convert_exe)), memory_limit_(memory_limit_bytes) {}
+SubprocessRunner::SubprocessRunner(fs::path convert_exe, uint64_t memory_limit_bytes, Clock& clock)
+    : exe_(std::move(convert_exe)), memory_limit_(memory_limit_bytes), clock_(clock) {}
 
 ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
                                         const std::function<void(double)>& progress,
@@ -103,12 +103,12 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
   close_fd(in_pipe[1]);
 
   std::string err_text, prog_text;
-  const auto deadline = std::chrono::steady_clock::now() + task.timeout;
+  const auto deadline = clock_.now() + task.timeout;
   ConversionOutcome::Status stop = ConversionOutcome::Status::ok;
   int err_fd = err_pipe[0], prog_fd = prog_pipe[0];
   while (err_fd >= 0 || prog_fd >= 0) {
     if (cancel.load()) stop = ConversionOutcome::Status::canceled;
-    else if (std::chrono::steady_clock::now() > deadline) stop = ConversionOutcome::Status::timed_out;
+    else if (clock_.now() > deadline) stop = ConversionOutcome::Status::timed_out;
     if (stop != ConversionOutcome::Status::ok) {
       kill(pid, SIGKILL);
       break;

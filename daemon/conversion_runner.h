@@ -4,6 +4,9 @@
 // overrides as `--set`, and reports progress on fd 3. Its sidecar (NAME.EXT.toml beside the
 // input) is applied by atelier-convert itself, between the two.
 //
+// Time: SubprocessRunner measures the task's timeout on the Clock given (real_clock() in the
+// daemon; a test moves a FakeClock past it). The child is a real process, so its pipes are
+// polled in real time, 100 ms at a time, which is also how soon a cancel is seen.
 // Threading: run() blocks the calling worker thread; several run() calls may proceed at once.
 #pragma once
 
@@ -15,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/clock.h"
 #include "convert/common/image_input.h"
 
 namespace atelier {
@@ -51,14 +55,16 @@ class ConversionRunner {
 class SubprocessRunner : public ConversionRunner {
  public:
   // `convert_exe`: path of atelier-convert. `memory_limit_bytes`: RLIMIT_AS of the child.
+  // `clock` (borrowed; must outlive the runner): what task.timeout is measured on.
   explicit SubprocessRunner(std::filesystem::path convert_exe,
-                            uint64_t memory_limit_bytes = 8ull << 30);
+                            uint64_t memory_limit_bytes = 8ull << 30, Clock& clock = real_clock());
   ConversionOutcome run(const ConversionTask& task, const std::function<void(double)>& progress,
                         const std::atomic<bool>& cancel) override;
 
  private:
   std::filesystem::path exe_;
   uint64_t memory_limit_;
+  Clock& clock_;
 };
 
 // atelier-convert beside the running program, or in ../bin; $ATELIER_CONVERT wins.

@@ -10,8 +10,8 @@ std::mutex& DeviceWorker::claim_mutex() {
   return mu;
 }
 
-DeviceWorker::DeviceWorker(DeviceConfig config, JobService& jobs, PortResolver resolve)
-    : config_(std::move(config)), jobs_(jobs), resolve_(std::move(resolve)) {}
+DeviceWorker::DeviceWorker(DeviceConfig config, JobService& jobs, PortResolver resolve, Clock& clock)
+    : config_(std::move(config)), jobs_(jobs), resolve_(std::move(resolve)), clock_(clock) {}
 
 DeviceWorker::~DeviceWorker() {
   // Subclasses stop first (their members die before ours); this only catches the case where
@@ -169,7 +169,7 @@ void DeviceWorker::worker() {
       }
     }
     std::unique_lock lock(mu_);
-    cv_.wait_for(lock, std::chrono::milliseconds(300), [this] { return stopping_ || woken_; });
+    clock_.wait_for(cv_, lock, std::chrono::milliseconds(300), [this] { return stopping_ || woken_; });
     woken_ = false;
   }
 }

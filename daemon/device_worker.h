@@ -3,6 +3,8 @@
 // at a time (at once with autostart, else when `atelierctl start` armed them), and describes
 // itself for `atelierctl devices`. Subclasses say how a job runs on their machine.
 //
+// Time: the worker's idle looks (every 300 ms) and what subclasses time (sessions, progress
+// throttling) are on the Clock given (real_clock() in the daemon, a FakeClock in tests).
 // Threading: one worker thread (start_worker()); public methods are thread-safe. Subclasses
 // guard their own state with mu_ as well. Devices of different kinds compete for ready jobs
 // only under claim_mutex(), so a job is never taken twice nor canceled while being taken.
@@ -17,6 +19,7 @@
 #include <string>
 #include <thread>
 
+#include "base/clock.h"
 #include "daemon/device.h"
 #include "daemon/job_service.h"
 
@@ -28,7 +31,8 @@ class DeviceWorker : public Device {
   // boards match a USB id); the message becomes the offline reason.
   using PortResolver = std::function<std::optional<std::string>()>;
 
-  DeviceWorker(DeviceConfig config, JobService& jobs, PortResolver resolve);
+  // Borrows `jobs` and `clock`, which must outlive the device.
+  DeviceWorker(DeviceConfig config, JobService& jobs, PortResolver resolve, Clock& clock = real_clock());
   ~DeviceWorker() override;
 
   void start_worker();
@@ -105,9 +109,10 @@ class DeviceWorker : public Device {
   DeviceConfig config_;
   JobService& jobs_;
   PortResolver resolve_;
+  Clock& clock_;
 
   mutable std::mutex mu_;
-  std::condition_variable cv_;
+  std::condition_variable_any cv_;  // _any: waited on through clock_
   bool stopping_ = false;
   std::optional<int64_t> current_;  // the job on the machine, if any
   std::string port_;                // the port found by the last resolve

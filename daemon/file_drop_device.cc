@@ -30,10 +30,13 @@ std::string stitch_file_name(const std::string& kind, const std::string& format)
 
 }  // namespace
 
-FileDropDevice::FileDropDevice(DeviceConfig config, JobService& jobs, FolderOpener open)
-    : DeviceWorker(std::move(config), jobs, [this]() -> std::optional<std::string> {
-        return config_.dir;  // always reachable; a missing folder fails the job with its reason
-      }),
+FileDropDevice::FileDropDevice(DeviceConfig config, JobService& jobs, FolderOpener open, Clock& clock)
+    : DeviceWorker(
+          std::move(config), jobs,
+          [this]() -> std::optional<std::string> {
+            return config_.dir;  // always reachable; a missing folder fails the job with its reason
+          },
+          clock),
       open_(open ? std::move(open) : [](const fs::path& dir) -> std::unique_ptr<DropFolder> {
         return std::make_unique<PosixDropFolder>(dir);
       }) {}

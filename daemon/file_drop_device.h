@@ -31,7 +31,8 @@ class FileDropDevice : public DeviceWorker {
   // Opens the device's folder (tests pass a fake that fails like a full stick).
   using FolderOpener = std::function<std::unique_ptr<DropFolder>(const std::filesystem::path&)>;
 
-  FileDropDevice(DeviceConfig config, JobService& jobs, FolderOpener open = nullptr);
+  // `clock`: the worker's waits (see DeviceWorker).
+  FileDropDevice(DeviceConfig config, JobService& jobs, FolderOpener open = nullptr, Clock& clock = real_clock());
   ~FileDropDevice() override;
 
   // Nothing to resume: a delivery either happened or failed (then `retry`).

@@ -34,8 +34,8 @@ constexpr uint32_t kDirMask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_DELE
 
 }  // namespace
 
-HotFolder::HotFolder(SpoolLayout layout, WatchMode mode, int settle_ms)
-    : layout_(std::move(layout)), mode_(mode), settle_ms_(settle_ms) {
+HotFolder::HotFolder(SpoolLayout layout, WatchMode mode, int settle_ms, Clock& clock)
+    : layout_(std::move(layout)), mode_(mode), settle_ms_(settle_ms), clock_(clock) {
   if (mode_ != WatchMode::inotify) return;
   inotify_fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   if (inotify_fd_ < 0) throw InternalError(std::string("inotify_init1: ") + strerror(errno));
@@ -137,7 +137,7 @@ std::vector<fs::path> HotFolder::collect_inotify() {
 
 std::vector<fs::path> HotFolder::collect_poll() {
   std::vector<fs::path> out;
-  auto now = std::chrono::steady_clock::now();
+  auto now = clock_.now();
   std::map<fs::path, Seen> next;
   for (const auto& path : scan()) {
     std::error_code ec;

@@ -3,7 +3,10 @@
 // unchanged for settle_ms). Reports candidates; it never moves anything (claiming is the
 // JobService's job).
 //
-// Threading: used from one thread (the daemon's main loop). Owns its inotify descriptor.
+// Time: the poll-mode settle timer reads the Clock given (real_clock() in the daemon; a test
+// moves a FakeClock between collect() calls).
+// Threading: used from one thread (the daemon's main loop). Owns its inotify descriptor and
+// borrows the clock, which must outlive it.
 #pragma once
 
 #include <chrono>
@@ -12,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "base/clock.h"
 #include "daemon/config.h"
 #include "daemon/spool_layout.h"
 
@@ -19,7 +23,7 @@ namespace atelier {
 
 class HotFolder {
  public:
-  HotFolder(SpoolLayout layout, WatchMode mode, int settle_ms);
+  HotFolder(SpoolLayout layout, WatchMode mode, int settle_ms, Clock& clock = real_clock());
   ~HotFolder();
   HotFolder(const HotFolder&) = delete;
   HotFolder& operator=(const HotFolder&) = delete;
@@ -44,12 +48,13 @@ class HotFolder {
   SpoolLayout layout_;
   WatchMode mode_;
   int settle_ms_;
+  Clock& clock_;
   int inotify_fd_ = -1;
   std::map<int, std::filesystem::path> watches_;  // inotify watch descriptor -> folder
   struct Seen {
     uintmax_t size;
     std::filesystem::file_time_type mtime;
-    std::chrono::steady_clock::time_point since;
+    Clock::time_point since;  // on clock_
     bool reported;
   };
   std::map<std::filesystem::path, Seen> polled_;

@@ -83,8 +83,8 @@ KnitDevice::JobPlan KnitDevice::plan_job(const Job& job) const {
 }
 
 KnitDevice::KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
-                       ayab::SessionTimeouts timeouts)
-    : DeviceWorker(std::move(config), jobs, std::move(resolve)),
+                       ayab::SessionTimeouts timeouts, Clock& clock)
+    : DeviceWorker(std::move(config), jobs, std::move(resolve), clock),
       open_(std::move(open)),
       timeouts_(timeouts) {}
 
@@ -222,7 +222,7 @@ void KnitDevice::knit(const Work& work) {
       if (cancel.load()) throw LinkLost("canceled before the machine was ready");
       waiting_link_ = link.get();
     }
-    ayab::HostSession session(*link, timeouts_);
+    ayab::HostSession session(*link, timeouts_, clock_);
     session.connect();
     session.init(plan.machine);
     {

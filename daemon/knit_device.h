@@ -41,8 +41,9 @@ class KnitDevice : public DeviceWorker {
   // Opens a transport to a port path (SerialTransport::open in the daemon, fakes in tests).
   using Opener = std::function<std::unique_ptr<Transport>(const std::string& port)>;
 
+  // `clock`: the sessions' deadlines and the worker's waits (see DeviceWorker).
   KnitDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
-             ayab::SessionTimeouts timeouts = {});
+             ayab::SessionTimeouts timeouts = {}, Clock& clock = real_clock());
   ~KnitDevice() override;
 
   void resume(int64_t job_id, int from_row) override;

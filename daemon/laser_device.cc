@@ -32,8 +32,8 @@ std::string duration_text(double seconds) {
 }  // namespace
 
 LaserDevice::LaserDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
-                         LaserOptions options)
-    : DeviceWorker(std::move(config), jobs, std::move(resolve)),
+                         LaserOptions options, Clock& clock)
+    : DeviceWorker(std::move(config), jobs, std::move(resolve), clock),
       open_(std::move(open)),
       options_(options) {}
 
@@ -129,7 +129,7 @@ LaserDevice::Connection LaserDevice::connect_for(int64_t id) {
   if (!port) throw LinkLost("the laser is not connected");
   Connection c;
   c.link = open_(*port);
-  c.session = std::make_unique<grbl::Session>(*c.link, options_.timeouts);
+  c.session = std::make_unique<grbl::Session>(*c.link, options_.timeouts, clock_);
   c.info = c.session->connect();
   c.program = grbl::parse_program(text.str(), rapid_rate(c.info));
   if (auto problem = job_fit_problem(c.program, c.info, file_name))
@@ -215,7 +215,7 @@ void LaserDevice::run_job(int64_t id) {
 
   size_t acked = 0, total = 0;
   bool beam_may_fire = false;  // the real run has started sending
-  const auto started = std::chrono::steady_clock::now();
+  const auto started = clock_.now();
   auto last_report = started - std::chrono::seconds(1);
   std::string pause_note;  // the program pause (M0) reported last, "" when running
   auto on_progress = [&](const grbl::Progress& p) {
@@ -240,7 +240,7 @@ void LaserDevice::run_job(int64_t id) {
       if (!pause_note.empty()) return;  // keep the pause in the detail until it ends
     }
     if (!pause_note.empty()) return;
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = clock_.now();
     // The store is written at most 5 times a second; the last line always.
     if (p.acked != p.total && now - last_report < std::chrono::milliseconds(200)) return;
     last_report = now;
@@ -274,7 +274,7 @@ void LaserDevice::run_job(int64_t id) {
     session.stream(program, options_.mode, controls, on_progress);
     c.link->close();
     const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        std::chrono::duration<double>(clock_.now() - started).count();
     jobs_.progress(id, static_cast<int64_t>(total), static_cast<int64_t>(total), "done");
     jobs_.transition(id, JobState::completed, "ran " + std::to_string(total) + " G-code lines on " +
                                                   config_.name + " in " + duration_text(seconds));

@@ -36,8 +36,10 @@ class LaserDevice : public DeviceWorker {
  public:
   using Opener = std::function<std::unique_ptr<Transport>(const std::string& port)>;
 
+  // `clock`: the sessions' timeouts, the progress throttling and the job's run time, and the
+  // worker's waits (see DeviceWorker).
   LaserDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
-              LaserOptions options = {});
+              LaserOptions options = {}, Clock& clock = real_clock());
   ~LaserDevice() override;
 
   // `from_row` must be 0: ends a program pause (M0, e.g. a sheet swap) of the running job, or

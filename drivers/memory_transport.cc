@@ -8,8 +8,10 @@
 namespace atelier {
 
 struct MemoryTransport::Shared {
+  explicit Shared(Clock& c) : clock(c) {}
+  Clock& clock;
   std::mutex mutex;
-  std::condition_variable changed;
+  std::condition_variable_any changed;
   std::deque<uint8_t> input[2];  // input[i]: bytes waiting to be read by end i
   bool lost = false;
 };
@@ -28,7 +30,7 @@ void MemoryTransport::write(const uint8_t* data, size_t size) {
 size_t MemoryTransport::read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) {
   std::unique_lock lock(shared_->mutex);
   auto& in = shared_->input[side_];
-  shared_->changed.wait_for(lock, timeout, [&] { return shared_->lost || !in.empty(); });
+  shared_->clock.wait_for(shared_->changed, lock, timeout, [&] { return shared_->lost || !in.empty(); });
   // Bytes already delivered stay readable only while the link is up: an unplugged cable
   // loses what was in flight, which is what the session must cope with.
   if (shared_->lost) throw LinkLost("memory link: disconnected");
@@ -53,8 +55,8 @@ void MemoryTransport::disconnect() {
   shared_->changed.notify_all();
 }
 
-std::pair<std::unique_ptr<MemoryTransport>, std::unique_ptr<MemoryTransport>> make_memory_pair() {
-  auto shared = std::make_shared<MemoryTransport::Shared>();
+std::pair<std::unique_ptr<MemoryTransport>, std::unique_ptr<MemoryTransport>> make_memory_pair(Clock& clock) {
+  auto shared = std::make_shared<MemoryTransport::Shared>(clock);
   return {std::make_unique<MemoryTransport>(shared, 0), std::make_unique<MemoryTransport>(shared, 1)};
 }
 

@@ -30,7 +30,8 @@ constexpr milliseconds kReadSlice{1000};
 
 }  // namespace
 
-HostSession::HostSession(Transport& link, SessionTimeouts timeouts) : link_(link), timeouts_(timeouts) {}
+HostSession::HostSession(Transport& link, SessionTimeouts timeouts, Clock& clock)
+    : link_(link), timeouts_(timeouts), clock_(clock) {}
 
 void HostSession::send(const Message& m) {
   const Bytes frame = slip_encode(encode(m));
@@ -46,7 +47,7 @@ std::optional<Message> HostSession::receive(Clock::time_point deadline) {
       if (const auto* s = std::get_if<IndState>(&m)) last_state_ = *s;
       return m;
     }
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (now >= deadline) return std::nullopt;
     const auto left = std::min<Clock::duration>(deadline - now, kReadSlice);
     const size_t n = link_.read(buf, sizeof buf, std::chrono::ceil<milliseconds>(left));
@@ -62,11 +63,11 @@ CnfInfo HostSession::connect() {
   link_.flush_input();
   decoder_ = SlipDecoder();
   pending_.clear();
-  const auto deadline = Clock::now() + timeouts_.boot;
+  const auto deadline = clock_.now() + timeouts_.boot;
   // An Arduino resets when the port opens and ignores us for ~2 s: ask again and again.
-  while (Clock::now() < deadline) {
+  while (clock_.now() < deadline) {
     send(ReqInfo{});
-    const auto retry = std::min(Clock::now() + timeouts_.info_retry, deadline);
+    const auto retry = std::min(clock_.now() + timeouts_.info_retry, deadline);
     while (auto m = receive(retry)) {
       const auto* info = std::get_if<CnfInfo>(&*m);
       if (!info) continue;
@@ -83,14 +84,14 @@ CnfInfo HostSession::connect() {
 
 void HostSession::init(MachineType machine) {
   line_bytes_ = line_bytes(machine);
-  const auto give_up = Clock::now() + timeouts_.silent;
+  const auto give_up = clock_.now() + timeouts_.silent;
   bool confirmed = false;
   while (!confirmed) {
-    if (Clock::now() >= give_up)
+    if (clock_.now() >= give_up)
       throw AyabError("the knitting machine did not confirm initialisation as " + machine_name(machine) +
                       " within " + seconds_text(timeouts_.silent));
     send(ReqInit{machine});
-    const auto retry = std::min(Clock::now() + timeouts_.reply, give_up);
+    const auto retry = std::min(clock_.now() + timeouts_.reply, give_up);
     while (auto m = receive(retry)) {
       const auto* c = std::get_if<CnfInit>(&*m);
       if (!c) continue;
@@ -106,7 +107,7 @@ void HostSession::init(MachineType machine) {
   }
   // The carriage must pass a turn mark; a person does that, so the wait may be long.
   // Firmware versions differ in the state they report with it (init or ready): error 0 counts.
-  const auto deadline = timeouts_.ready.count() == 0 ? Clock::time_point::max() : Clock::now() + timeouts_.ready;
+  const auto deadline = timeouts_.ready.count() == 0 ? Clock::time_point::max() : clock_.now() + timeouts_.ready;
   while (auto m = receive(deadline)) {
     const auto* s = std::get_if<IndState>(&*m);
     if (s && s->error == err::success && (s->state == FsmState::ready || s->state == FsmState::init)) return;
@@ -133,7 +134,7 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
 
   const ReqStart start{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false, true};
   send(start);
-  auto start_deadline = Clock::now() + timeouts_.reply;
+  auto start_deadline = clock_.now() + timeouts_.reply;
   for (bool started = false; !started;) {
     auto m = receive(start_deadline);
     if (!m)
@@ -142,7 +143,7 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
       if (c->error >= err::wrong_state && c->error <= 0xEF) {
         // Not ready yet (an initialised machine whose carriage has not passed the turn mark
         // since the last job): wait for the ready indState, then ask again.
-        const auto ready_by = timeouts_.ready.count() == 0 ? Clock::time_point::max() : Clock::now() + timeouts_.ready;
+        const auto ready_by = timeouts_.ready.count() == 0 ? Clock::time_point::max() : clock_.now() + timeouts_.ready;
         bool ready = false;
         while (!ready) {
           auto r = receive(ready_by);
@@ -153,7 +154,7 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
           ready = st && st->error == err::success;
         }
         send(start);
-        start_deadline = Clock::now() + timeouts_.reply;
+        start_deadline = clock_.now() + timeouts_.reply;
         continue;
       }
       if (c->error != err::success)
@@ -170,7 +171,7 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   int done = from_pass;
   std::optional<CnfLine> last_sent;
   bool ended = false;  // blank last line sent
-  auto last_rx = Clock::now();
+  auto last_rx = clock_.now();
   auto last_tx = last_rx;
   // A knitter may pause between rows for as long as they like, and the firmware says nothing
   // meanwhile. After `silent` without a word we ask for cnfInfo: a live machine answers it in
@@ -180,7 +181,7 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     const auto silent_at = probe_until ? *probe_until : last_rx + timeouts_.silent;
     const auto deadline = last_sent ? std::min(silent_at, last_tx + timeouts_.line_resend) : silent_at;
     auto m = receive(deadline);
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (!m) {
       if (now >= silent_at) {
         if (probe_until)
@@ -232,10 +233,10 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   }
 
   // reqInfo answered means the firmware has read everything before it, the last line included.
-  const auto end_deadline = Clock::now() + timeouts_.reply;
-  while (Clock::now() < end_deadline) {
+  const auto end_deadline = clock_.now() + timeouts_.reply;
+  while (clock_.now() < end_deadline) {
     send(ReqInfo{});
-    const auto retry = std::min(Clock::now() + timeouts_.info_retry, end_deadline);
+    const auto retry = std::min(clock_.now() + timeouts_.info_retry, end_deadline);
     while (auto m = receive(retry)) {
       if (std::holds_alternative<CnfInfo>(*m)) return done;
       const auto* req = std::get_if<ReqLine>(&*m);

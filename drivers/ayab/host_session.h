@@ -2,6 +2,8 @@
 // API check, init, wait for ready, start, answering every reqLine with 256-row block
 // tracking and re-send on timeout, the blank last line, and a final reqInfo.
 //
+// Time: deadlines and timeouts are on the Clock given (real_clock() in the daemon); the
+// transport's reads must wait on the same clock (a SimulatedTransport on a FakeClock in tests).
 // Threading: one HostSession per transport, used from one thread (the device worker).
 // Errors: LinkLost (from the transport) when the machine goes away; AyabError for protocol
 // failures (API mismatch, firmware errors, out-of-sequence requests, timeouts) with a
@@ -15,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "base/clock.h"
 #include "base/error.h"
 #include "drivers/ayab/knit_plan.h"
 #include "drivers/ayab/messages.h"
@@ -43,7 +46,8 @@ struct KnitProgress {
 
 class HostSession {
  public:
-  HostSession(Transport& link, SessionTimeouts timeouts = {});
+  // Borrows `link` and `clock` for its life.
+  HostSession(Transport& link, SessionTimeouts timeouts = {}, Clock& clock = real_clock());
 
   // reqInfo until cnfInfo (tolerating the boot delay); throws AyabError for api < 6.
   CnfInfo connect();
@@ -61,13 +65,13 @@ class HostSession {
   const IndState& last_state() const { return last_state_; }
 
  private:
-  using Clock = std::chrono::steady_clock;
   void send(const Message& m);
   // The next valid message, or nullopt once `deadline` passes. Records indState.
   std::optional<Message> receive(Clock::time_point deadline);
 
   Transport& link_;
   SessionTimeouts timeouts_;
+  Clock& clock_;
   IndState last_state_;
   SlipDecoder decoder_;           // one byte stream across connect/init/knit
   std::deque<Message> pending_;   // decoded, not yet consumed

@@ -60,7 +60,8 @@ GrblError::GrblError(int c, size_t n, std::string l)
 
 GrblAlarm::GrblAlarm(int c) : DeviceError("ALARM:" + std::to_string(c) + " " + alarm_meaning(c)), code(c) {}
 
-Session::Session(Transport& link, Timeouts t) : link_(link), t_(t), last_rx_(Clock::now()) {}
+Session::Session(Transport& link, Timeouts t, Clock& clock)
+    : link_(link), t_(t), clock_(clock), last_rx_(clock.now()) {}
 
 void Session::write_line(const std::string& line) {
   const std::string wire = line + "\n";
@@ -79,12 +80,12 @@ std::optional<std::string> Session::read_line(Clock::time_point deadline) {
       line.erase(std::remove(line.begin(), line.end(), '\r'), line.end());
       if (!line.empty()) return line;
     }
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (now >= deadline) return std::nullopt;
     const auto wait = std::min<Clock::duration>(deadline - now, kSlice);
     const size_t n = link_.read(buf, sizeof buf, std::chrono::ceil<milliseconds>(wait));
     if (n > 0) {
-      last_rx_ = Clock::now();
+      last_rx_ = clock_.now();
       rx_.append(reinterpret_cast<const char*>(buf), n);
     }
   }
@@ -122,7 +123,7 @@ std::optional<Reply> Session::next(Clock::time_point deadline) {
 }
 
 bool Session::wait_banner(milliseconds limit) {
-  const auto deadline = Clock::now() + limit;
+  const auto deadline = clock_.now() + limit;
   while (auto r = next(deadline))
     if (r->kind == Reply::banner) {
       if (info_.version.rfind(r->text, 0) != 0) info_.version = r->text;  // keep "1.1h.2019..." from $I
@@ -134,7 +135,7 @@ bool Session::wait_banner(milliseconds limit) {
 std::vector<Reply> Session::setup_query(const std::string& cmd) {
   write_line(cmd);
   std::vector<Reply> out;
-  const auto deadline = Clock::now() + t_.reply;
+  const auto deadline = clock_.now() + t_.reply;
   for (;;) {
     auto r = next(deadline);
     if (!r) throw SetupError("GRBL did not answer " + cmd + " within " + seconds_text(t_.reply));
@@ -214,7 +215,7 @@ MachineInfo Session::connect() {
 
 Status Session::query_status() {
   write_byte('?');
-  const auto deadline = Clock::now() + t_.reply;
+  const auto deadline = clock_.now() + t_.reply;
   for (;;) {
     auto r = next(deadline);
     if (!r) throw Silent("GRBL did not answer a status request ('?') within " + seconds_text(t_.reply));
@@ -224,10 +225,10 @@ Status Session::query_status() {
 
 void Session::command(const std::string& line) {
   write_line(line);
-  last_rx_ = Clock::now();
-  auto last_poll = Clock::now();
+  last_rx_ = clock_.now();
+  auto last_poll = clock_.now();
   for (;;) {
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (now - last_rx_ >= t_.silent)
       throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(t_.silent) +
                    " and stopped answering status requests");
@@ -270,14 +271,14 @@ bool Session::stop_machine() {
   // also fades with the speed, and GRBL turns it off when the hold is complete.
   write_byte('!');
   for (int i = 0; i < 9; ++i) write_byte(kSpindleOverrideMinus10);
-  const auto hold_by = Clock::now() + kHoldBudget;
+  const auto hold_by = clock_.now() + kHoldBudget;
   // A report already on its way answers a '?' sent before the hold: only the ones asked for
   // afterwards count, so skip as many reports as there were requests outstanding (at most one).
   int stale = 1;
   bool at_rest = false;
   Clock::time_point last_poll{};
   while (!at_rest) {
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (now >= hold_by) break;
     if (now - last_poll >= kHoldPoll) {
       write_byte('?');
@@ -291,7 +292,7 @@ bool Session::stop_machine() {
   // At rest a reset keeps the position; in motion it stops the beam and steppers at once and
   // raises ALARM:3 (position possibly lost): the lock stays for the operator to clear.
   write_byte(kSoftReset);
-  const auto banner_by = Clock::now() + t_.stop;
+  const auto banner_by = clock_.now() + t_.stop;
   for (bool banner = false; !banner;) {
     auto r = next(banner_by);
     if (!r)
@@ -334,7 +335,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
   Clock::time_point last_report{};
   const auto report = [&](bool force) {
     if (!on_progress) return;
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (!force && now - last_report < kProgressEvery) return;
     last_report = now;
     prog.acked = acked;
@@ -361,9 +362,9 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
     return std::nullopt;
   };
   bool done_polled = false;    // a '?' went out after the last ok
-  Clock::time_point last_ack = Clock::now();
+  Clock::time_point last_ack = clock_.now();
   Clock::time_point last_poll{};
-  last_rx_ = Clock::now();
+  last_rx_ = clock_.now();
   for (;;) {
     if (c.cancel) {
       const bool kept = stop_machine();
@@ -396,7 +397,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
       report(true);
       return;  // check mode moves nothing: every line answered is the end
     }
-    const auto now = Clock::now();
+    const auto now = clock_.now();
     if (now - last_rx_ >= t_.silent) {
       // Whatever it is doing, it must not go on doing it unattended.
       write_byte('!');
@@ -418,7 +419,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         in_flight.pop_front();
         window.acked();
         ++acked;
-        last_ack = Clock::now();
+        last_ack = clock_.now();
         report(acked == n);
         break;
       case Reply::error: {
@@ -458,7 +459,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
           write_byte('~');
           resume_polled = false;
         }
-        if (!in_flight.empty() && idle_and_empty && Clock::now() - last_ack >= kOutOfStep) {
+        if (!in_flight.empty() && idle_and_empty && clock_.now() - last_ack >= kOutOfStep) {
           emergency_stop();
           throw DeviceError("GRBL is idle but has not acknowledged line " +
                                    std::to_string(p.source_line[in_flight.front()]) + " for " +
@@ -506,7 +507,7 @@ void Session::check(const Program& p, StreamMode mode, Controls& c, const Progre
   // Leaving check mode makes GRBL reset itself: "[MSG:Disabled]", ok, then the banner.
   // Anything sent before the banner would be lost with the cleared receive buffer.
   write_line("$C");
-  const auto deadline = Clock::now() + t_.stop;
+  const auto deadline = clock_.now() + t_.stop;
   for (bool ok = false, banner = false; !(ok && banner);) {
     auto r = next(deadline);
     if (!r)

@@ -4,8 +4,11 @@
 // beam off with the position kept. Follows GRBL 1.1h's own report.c/protocol.c formats, so
 // it works against real controllers, grbl-sim and tools/laser_emu alike.
 //
+// Time: timeouts, polls and progress throttling are on the Clock given (real_clock() in the
+// daemon); the transport's reads must wait on the same clock (a SimulatedTransport on a
+// FakeClock in tests).
 // Threading: one Session per transport, used from one thread (the device worker). Controls
-// may be set from any thread; the session reacts within ~20 ms.
+// may be set from any thread; the session reacts within ~20 ms (of its clock).
 // Errors: LinkLost (from the transport) propagates unchanged; the classes below say what
 // went wrong with a message for the operator. A controller that restarts by itself in the
 // middle of a command or job (banner out of turn) is a DeviceError saying so.
@@ -21,6 +24,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/clock.h"
 #include "base/error.h"
 #include "drivers/grbl/messages.h"
 #include "drivers/grbl/program.h"
@@ -106,7 +110,8 @@ class Session {
  public:
   using ProgressFn = std::function<void(const Progress&)>;
 
-  explicit Session(Transport& link, Timeouts t = {});
+  // Borrows `link` and `clock` for its life.
+  explicit Session(Transport& link, Timeouts t = {}, Clock& clock = real_clock());
 
   // Waits for the banner "Grbl 1.1x ['$' for help]"; if none comes within timeouts.banner,
   // sends a soft reset (0x18) once and waits again (that also stops an old queue still
@@ -148,7 +153,6 @@ class Session {
   const Status& last_status() const { return last_status_; }
 
  private:
-  using Clock = std::chrono::steady_clock;
   void write_line(const std::string& line);
   void write_byte(uint8_t b);
   // The next non-empty line from the controller, or nullopt once `deadline` passes.
@@ -174,6 +178,7 @@ class Session {
 
   Transport& link_;
   Timeouts t_;
+  Clock& clock_;
   MachineInfo info_;
   std::string rx_;                         // bytes after the last complete line
   Clock::time_point last_rx_;              // when anything last arrived

@@ -1,15 +1,16 @@
-// The AYAB host session against scripted firmware peers on an in-memory link: a test thread
-// plays the firmware with canned replies and injected faults.
+// The AYAB host session against scripted firmware peers on a simulated link: the firmware
+// answers with canned replies and injected faults, in lock step with the session on a fake
+// clock (no thread, no real time).
 #include <gtest/gtest.h>
 
-#include <optional>
-
 #include <atomic>
-#include <mutex>
-#include <thread>
+#include <memory>
+#include <optional>
+#include <utility>
 
+#include "base/fake_clock.h"
 #include "drivers/ayab/host_session.h"
-#include "drivers/memory_transport.h"
+#include "drivers/simulated_transport.h"
 
 namespace atelier::ayab {
 namespace {
@@ -29,126 +30,122 @@ struct PeerScript {
   std::chrono::milliseconds pause{0};
 };
 
-// Plays an AYAB v6 firmware on one end of a memory pair, recording what the host sent.
-class ScriptedFirmware {
+// Plays an AYAB v6 firmware as the far end of a SimulatedTransport, recording what the host
+// sent: canned replies and injected faults, on the test's FakeClock.
+class ScriptedFirmware : public SimulatedPeer {
  public:
-  ScriptedFirmware(MemoryTransport& link, PeerScript script, int line_bytes)
-      : link_(link), script_(script), line_bytes_(line_bytes), thread_([this] { run(); }) {}
-  ~ScriptedFirmware() {
-    stop_ = true;
-    thread_.join();
-  }
+  ScriptedFirmware(PeerScript script, int line_bytes, Clock::time_point born)
+      : script_(script), line_bytes_(line_bytes), born_(born) {}
 
-  std::vector<CnfLine> lines() {
-    std::lock_guard lock(mutex_);
-    return lines_;
-  }
-  std::vector<Message> received() {
-    std::lock_guard lock(mutex_);
-    return received_;
-  }
-  int count_received(MsgId id) {
+  std::vector<CnfLine> lines() const { return lines_; }
+  std::vector<Message> received() const { return received_; }
+  int count_received(MsgId id) const {
     int n = 0;
-    for (const auto& m : received())
+    for (const auto& m : received_)
       if (encode(m)[0] == static_cast<uint8_t>(id)) ++n;
     return n;
   }
 
+  void receive(const uint8_t* data, size_t size, Clock::time_point now) override {
+    resume_if_due(now);
+    for (const Bytes& packet : dec_.feed(data, size)) {
+      auto r = decode(packet, line_bytes_);
+      if (!r.message) continue;
+      received_.push_back(*r.message);
+      if (silent_) continue;
+      handle(*r.message, now);
+      if (unplugged_) return;
+    }
+  }
+  std::vector<uint8_t> take_output(Clock::time_point now) override {
+    resume_if_due(now);
+    return std::exchange(out_, {});
+  }
+  std::optional<Clock::time_point> next_event() const override { return paused_until_; }
+  bool unplugged() const override { return unplugged_; }
+
  private:
   void send(const Message& m) {
     const Bytes f = slip_encode(encode(m));
-    link_.write(f.data(), f.size());
+    out_.insert(out_.end(), f.begin(), f.end());
   }
-
-  void run() {
-    const auto born = std::chrono::steady_clock::now();
-    SlipDecoder dec;
-    uint8_t buf[256];
-    int expected = 0;
-    bool silent = false;
-    std::optional<std::chrono::steady_clock::time_point> paused_until;
-    uint8_t paused_request = 0;
-    try {
-      while (!stop_) {
-        if (paused_until && std::chrono::steady_clock::now() >= *paused_until) {
-          paused_until.reset();
-          send(ReqLine{paused_request, 0});
-        }
-        const size_t n = link_.read(buf, sizeof buf, 20ms);
-        for (const Bytes& packet : dec.feed(buf, n)) {
-          auto r = decode(packet, line_bytes_);
-          if (!r.message) continue;
-          {
-            std::lock_guard lock(mutex_);
-            received_.push_back(*r.message);
-          }
-          if (silent) continue;
-          const Message& m = *r.message;
-          if (std::holds_alternative<ReqInfo>(m)) {
-            if (std::chrono::steady_clock::now() - born >= script_.boot_delay) send(CnfInfo{script_.api, 1, 0, 0, ""});
-          } else if (std::holds_alternative<ReqInit>(m)) {
-            send(CnfInit{0});
-            send(Debug{"init"});  // noise the host must skip
-            IndState s;
-            s.state = FsmState::ready;
-            send(s);
-          } else if (std::holds_alternative<ReqStart>(m)) {
-            send(CnfStart{script_.start_error});
-            if (script_.start_error == 0) send(ReqLine{0, 0});
-          } else if (const auto* c = std::get_if<CnfLine>(&m)) {
-            // While the carriage stands still the firmware still holds the line it has: a
-            // re-sent copy of it changes nothing.
-            if (paused_until && c->line == static_cast<uint8_t>((expected - 1) & 0xFF)) continue;
-            if (c->line != static_cast<uint8_t>(expected & 0xFF)) {
-              send(ReqLine{static_cast<uint8_t>(expected & 0xFF), 0});  // wrong line number
-              continue;
-            }
-            if (expected == script_.drop_first_copy_of) {
-              script_.drop_first_copy_of = -1;  // as if its CRC were bad: silently dropped
-              continue;
-            }
-            {
-              std::lock_guard lock(mutex_);
-              lines_.push_back(*c);
-            }
-            if (c->last_line) continue;  // end of knitting: no more requests
-            if (expected == script_.disconnect_after) {
-              link_.disconnect();
-              return;
-            }
-            if (expected == script_.silent_after) {
-              silent = true;
-              continue;
-            }
-            if (expected == script_.repeat_request_of) {
-              script_.repeat_request_of = -1;
-              send(ReqLine{static_cast<uint8_t>(expected & 0xFF), 0});
-              continue;
-            }
-            const int next = expected == script_.wrong_request_after ? expected + 3 : expected + 1;
-            if (expected == script_.pause_after) {
-              ++expected;
-              paused_until = std::chrono::steady_clock::now() + script_.pause;
-              paused_request = static_cast<uint8_t>(next & 0xFF);
-              continue;
-            }
-            ++expected;
-            send(ReqLine{static_cast<uint8_t>(next & 0xFF), 0});
-          }
-        }
-      }
-    } catch (const LinkLost&) {
+  // The knitter starts moving again: the request held back during the pause goes out.
+  void resume_if_due(Clock::time_point now) {
+    if (paused_until_ && now >= *paused_until_) {
+      paused_until_.reset();
+      send(ReqLine{paused_request_, 0});
     }
   }
 
-  MemoryTransport& link_;
+  void handle(const Message& m, Clock::time_point now) {
+    if (std::holds_alternative<ReqInfo>(m)) {
+      if (now - born_ >= script_.boot_delay) send(CnfInfo{script_.api, 1, 0, 0, ""});
+    } else if (std::holds_alternative<ReqInit>(m)) {
+      send(CnfInit{0});
+      send(Debug{"init"});  // noise the host must skip
+      IndState s;
+      s.state = FsmState::ready;
+      send(s);
+    } else if (std::holds_alternative<ReqStart>(m)) {
+      send(CnfStart{script_.start_error});
+      if (script_.start_error == 0) send(ReqLine{0, 0});
+    } else if (const auto* c = std::get_if<CnfLine>(&m)) {
+      // While the carriage stands still the firmware still holds the line it has: a
+      // re-sent copy of it changes nothing.
+      if (paused_until_ && c->line == static_cast<uint8_t>((expected_ - 1) & 0xFF)) return;
+      if (c->line != static_cast<uint8_t>(expected_ & 0xFF)) {
+        send(ReqLine{static_cast<uint8_t>(expected_ & 0xFF), 0});  // wrong line number
+        return;
+      }
+      if (expected_ == script_.drop_first_copy_of) {
+        script_.drop_first_copy_of = -1;  // as if its CRC were bad: silently dropped
+        return;
+      }
+      lines_.push_back(*c);
+      if (c->last_line) return;  // end of knitting: no more requests
+      if (expected_ == script_.disconnect_after) {
+        unplugged_ = true;
+        return;
+      }
+      if (expected_ == script_.silent_after) {
+        silent_ = true;
+        return;
+      }
+      if (expected_ == script_.repeat_request_of) {
+        script_.repeat_request_of = -1;
+        send(ReqLine{static_cast<uint8_t>(expected_ & 0xFF), 0});
+        return;
+      }
+      const int next = expected_ == script_.wrong_request_after ? expected_ + 3 : expected_ + 1;
+      if (expected_ == script_.pause_after) {
+        ++expected_;
+        paused_until_ = now + script_.pause;
+        paused_request_ = static_cast<uint8_t>(next & 0xFF);
+        return;
+      }
+      ++expected_;
+      send(ReqLine{static_cast<uint8_t>(next & 0xFF), 0});
+    }
+  }
+
   PeerScript script_;
   int line_bytes_;
-  std::atomic<bool> stop_{false};
-  std::mutex mutex_;
+  Clock::time_point born_;
+  SlipDecoder dec_;
+  std::vector<uint8_t> out_;
+  int expected_ = 0;
+  bool silent_ = false, unplugged_ = false;
+  std::optional<Clock::time_point> paused_until_;
+  uint8_t paused_request_ = 0;
   std::vector<CnfLine> lines_;
   std::vector<Message> received_;
-  std::thread thread_;  // last: starts after everything above is ready
+};
+
+// Nobody at the other end: whatever the host sends goes unanswered.
+struct NoFirmware : SimulatedPeer {
+  void receive(const uint8_t*, size_t, Clock::time_point) override {}
+  std::vector<uint8_t> take_output(Clock::time_point) override { return {}; }
+  std::optional<Clock::time_point> next_event() const override { return std::nullopt; }
 };
 
 SessionTimeouts fast() {
@@ -161,6 +158,19 @@ SessionTimeouts fast() {
   t.silent = 3000ms;
   return t;
 }
+
+// A host session and its scripted firmware on one FakeClock: the session's reads move the
+// clock, so every timeout below passes in simulated time only.
+struct Rig {
+  explicit Rig(PeerScript script = {}, SessionTimeouts t = fast())
+      : peer(std::make_shared<ScriptedFirmware>(script, 25, clock.now())), link(peer, clock), s(link, t, clock) {}
+
+  FakeClock clock;
+  std::shared_ptr<ScriptedFirmware> peer;
+  SimulatedTransport link;
+  HostSession s;
+};
+
 
 KnitPlan plan_of(int rows, int cols = 40) {
   cv::Mat pat(rows, cols, CV_8UC1, cv::Scalar(0));
@@ -181,9 +191,9 @@ struct KnitRun {
 };
 
 TEST(AyabHostSession, KnitsThreeHundredRowsAcrossTheLineNumberWrap) {
-  auto [host, fw] = make_memory_pair();
-  ScriptedFirmware peer(*fw, {}, 25);
-  HostSession s(*host, fast());
+  Rig rig;
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   EXPECT_EQ(s.connect().api, 6);
   s.init(MachineType::kh930);
   const KnitPlan plan = plan_of(300);
@@ -222,11 +232,10 @@ TEST(AyabHostSession, KnitsThreeHundredRowsAcrossTheLineNumberWrap) {
 }
 
 TEST(AyabHostSession, RefusesApi5WithAClearMessage) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.api = 5;
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
   try {
     s.connect();
     FAIL() << "expected AyabError";
@@ -238,20 +247,22 @@ TEST(AyabHostSession, RefusesApi5WithAClearMessage) {
 }
 
 TEST(AyabHostSession, ToleratesTheArduinoBootDelay) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.boot_delay = 1500ms;
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   EXPECT_EQ(s.connect().api, 6);
   EXPECT_GT(peer.count_received(MsgId::reqInfo), 1);  // asked again while the board booted
 }
 
 TEST(AyabHostSession, NoAnswerAtAllNamesTheCableAndFirmware) {
-  auto [host, fw] = make_memory_pair();  // nobody plays the firmware
+  FakeClock clock;
+  SimulatedTransport host(std::make_shared<NoFirmware>(), clock);
   SessionTimeouts t = fast();
   t.boot = 300ms;
-  HostSession s(*host, t);
+  HostSession s(host, t, clock);
+  const auto t0 = clock.now();
   try {
     s.connect();
     FAIL() << "expected AyabError";
@@ -260,14 +271,15 @@ TEST(AyabHostSession, NoAnswerAtAllNamesTheCableAndFirmware) {
                  "no answer from the knitting machine within 0.3 s: check the cable and that the AYAB firmware is "
                  "installed");
   }
+  EXPECT_EQ(clock.now() - t0, 300ms);  // it gave up at the boot limit, not before or after
 }
 
 TEST(AyabHostSession, ResendsACnfLineTheFirmwareDropped) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.drop_first_copy_of = 3;
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   s.connect();
   s.init(MachineType::kh930);
   const KnitPlan plan = plan_of(8);
@@ -283,11 +295,11 @@ TEST(AyabHostSession, ResendsACnfLineTheFirmwareDropped) {
 }
 
 TEST(AyabHostSession, AnswersARepeatedRequestWithTheSameLine) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.repeat_request_of = 2;
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   s.connect();
   s.init(MachineType::kh930);
   const KnitPlan plan = plan_of(5);
@@ -302,11 +314,10 @@ TEST(AyabHostSession, AnswersARepeatedRequestWithTheSameLine) {
 }
 
 TEST(AyabHostSession, OutOfSequenceRequestAborts) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.wrong_request_after = 4;
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
   s.connect();
   s.init(MachineType::kh930);
   KnitRun run;
@@ -319,11 +330,10 @@ TEST(AyabHostSession, OutOfSequenceRequestAborts) {
 }
 
 TEST(AyabHostSession, LinkLostMidKnitCountsExactlyThePassesDone) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.disconnect_after = 9;  // lines 0..8 confirmed by the request for 9; 9 itself not
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
   s.connect();
   s.init(MachineType::kh930);
   KnitRun run;
@@ -333,9 +343,9 @@ TEST(AyabHostSession, LinkLostMidKnitCountsExactlyThePassesDone) {
 }
 
 TEST(AyabHostSession, ResumeFromAPassNumbersLinesFromZero) {
-  auto [host, fw] = make_memory_pair();
-  ScriptedFirmware peer(*fw, {}, 25);
-  HostSession s(*host, fast());
+  Rig rig;
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   s.connect();
   s.init(MachineType::kh930);
   const KnitPlan plan = plan_of(12);
@@ -353,9 +363,9 @@ TEST(AyabHostSession, ResumeFromAPassNumbersLinesFromZero) {
 }
 
 TEST(AyabHostSession, CancelSendsTheBlankLastLineNextAndAFinalReqInfo) {
-  auto [host, fw] = make_memory_pair();
-  ScriptedFirmware peer(*fw, {}, 25);
-  HostSession s(*host, fast());
+  Rig rig;
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   s.connect();
   s.init(MachineType::kh930);
   KnitRun run;
@@ -371,11 +381,10 @@ TEST(AyabHostSession, CancelSendsTheBlankLastLineNextAndAFinalReqInfo) {
 }
 
 TEST(AyabHostSession, StartErrorIsReported) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.start_error = err::bad_argument;
-  ScriptedFirmware peer(*fw, script, 25);
-  HostSession s(*host, fast());
+  Rig rig(script);
+  HostSession& s = rig.s;
   s.connect();
   s.init(MachineType::kh930);
   KnitRun run;
@@ -389,14 +398,14 @@ TEST(AyabHostSession, StartErrorIsReported) {
 }
 
 TEST(AyabHostSession, AKnitterPausingLongerThanTheSilenceLimitIsNotASilentMachine) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.pause_after = 2;
   script.pause = 1500ms;  // well over `silent`: the machine answers reqInfo meanwhile
-  ScriptedFirmware peer(*fw, script, 25);
   SessionTimeouts t = fast();
   t.silent = 400ms;
-  HostSession s(*host, t);
+  Rig rig(script, t);
+  HostSession& s = rig.s;
+  const ScriptedFirmware& peer = *rig.peer;
   s.connect();
   s.init(MachineType::kh930);
   KnitRun run;
@@ -405,13 +414,12 @@ TEST(AyabHostSession, AKnitterPausingLongerThanTheSilenceLimitIsNotASilentMachin
 }
 
 TEST(AyabHostSession, SilentMachineFailsNamingTheRow) {
-  auto [host, fw] = make_memory_pair();
   PeerScript script;
   script.silent_after = 3;
-  ScriptedFirmware peer(*fw, script, 25);
   SessionTimeouts t = fast();
   t.silent = 400ms;
-  HostSession s(*host, t);
+  Rig rig(script, t);
+  HostSession& s = rig.s;
   s.connect();
   s.init(MachineType::kh930);
   KnitRun run;

@@ -3,18 +3,16 @@
 // land on top; knit carriage: an empty needle casts on a new loop, a stack becomes one stitch
 // whose top is the loop that arrived last) and the knitted fabric must have exactly the
 // chart's stitches. Charts the carriage cannot do must come back as problems naming the row.
-// On the knitting-machine device: a lace job's passes reach the emulator as planned, and a
-// chart the carriage cannot do fails before the port is opened.
+// On the knitting-machine device: a lace job's passes reach the firmware model (a simulated
+// knitter, in simulated time) as planned, and a chart the carriage cannot do fails before the
+// port is opened.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <chrono>
 #include <fstream>
 #include <functional>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "algorithms/lace/chart.h"
@@ -23,9 +21,11 @@
 #include "daemon/job_service.h"
 #include "daemon/knit_device.h"
 #include "drivers/ayab/lace_plan.h"
-#include "drivers/serial_transport.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/unit/job_watch.h"
 #include "tests/unit/lace_test_charts.h"
+#include "tests/unit/simulated_knitter.h"
+#include "tools/knit_emu/faults.h"
 
 namespace atelier::ayab {
 namespace {
@@ -267,14 +267,16 @@ TEST(AyabLacePlan, WiderThanTheBedNamesBothWidths) {
 }
 
 // A ready lace job (chart.json in its output folder) and a knitting-machine device taking
-// knit and lace jobs on `port`.
+// knit and lace jobs, all on one FakeClock: the device's sessions knit against a simulated
+// knitter in simulated time.
 struct LaceJobOnDevice {
   test::TempDir tmp;
   SpoolLayout layout{tmp.path() / "spool"};
   Store store{tmp.path() / "jobs.sqlite"};
-  JobService jobs{store, layout, nullptr};
+  FakeClock clock;
+  test::JobWatch watch{clock};
+  JobService jobs{store, layout, watch.listener()};
   int64_t id = 0;
-  std::atomic<int> opened{0};
 
   LaceJobOnDevice(const Chart& chart, int cast_on, int wide, int high, JobState state = JobState::ready) {
     jobs.ensure_layout();
@@ -289,44 +291,36 @@ struct LaceJobOnDevice {
     store.insert_job(job);
     id = job.id;
   }
-  // Runs the device until the job has finished (at most 30 s); `resume_from` resumes an
-  // interrupted job from that chart row first; the job is canceled once `cancel_when` says so.
-  Job run(const std::string& port, int resume_from = 0, const std::function<bool()>& cancel_when = {}) {
+  // Runs the device on `machine` until it is done with the job (at most an hour of the clock);
+  // `resume_from` resumes an interrupted job from that chart row first; the job is canceled
+  // once `cancel_when` says so (asked each time the machine has knitted a row).
+  Job run(test::SimulatedKnitter& machine, int resume_from = 0, const std::function<bool()>& cancel_when = {}) {
     DeviceConfig d;
     d.name = "knitter";
     d.driver = "ayab";
-    d.port = port;
+    d.port = "/dev/ttyKNIT";
     d.machine = "kh930";
     d.kinds = {"knit", "lace"};
     d.autostart = true;
     KnitDevice device(
-        d, jobs,
-        [this](const std::string& p) -> std::unique_ptr<Transport> {
-          ++opened;
-          return SerialTransport::open(p);
-        },
-        [port]() -> std::optional<std::string> { return port; });
+        d, jobs, [&machine](const std::string&) { return machine.open(); },
+        [port = d.port]() -> std::optional<std::string> { return port; }, {}, clock);
+    bool canceled = false;
+    machine.on_row = [&] {
+      if (cancel_when && !canceled && cancel_when()) canceled = device.cancel(id);
+    };
     if (resume_from > 0) device.resume(id, resume_from);
     device.start_worker();
     device.wake();
-    bool canceled = false;
-    for (int i = 0; i < 3000; ++i) {
-      if (cancel_when && !canceled && cancel_when()) canceled = device.cancel(id);
-      const auto job = store.get(id);
-      if (job->state == JobState::completed || job->state == JobState::failed ||
-          job->state == JobState::canceled || (i > 50 && job->state == JobState::interrupted))
-        break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+    EXPECT_TRUE(watch.wait_left(id, JobState::running)) << "the device did not finish the job";
     device.stop();
+    machine.on_row = nullptr;
     return *store.get(id);
   }
 };
 
-using RecordingEmulator = test::KnitEmulator;
-
 // Needle strings (working range, leftmost first) of the plan's passes from `from_pass` on: what
-// the emulator records.
+// the simulated knitter records.
 std::vector<std::string> pass_lines(const KnitPlan& plan, size_t from_pass = 0) {
   std::vector<std::string> out;
   for (size_t p = from_pass; p < plan.passes.size(); ++p) {
@@ -341,23 +335,24 @@ TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens)
   // Two problems: the yarn-over before a k2tog (row 3), and a row that widens (row 5).
   const Chart c{{knit(4), row({"k", "yo", "k2tog", "k"}), row({"yo", "k", "k", "k", "k"})}};
   LaceJobOnDevice rig(c, 4, 2, 1);
-  const Job job = rig.run((rig.tmp.path() / "no-such-port").string());
+  test::SimulatedKnitter machine(rig.clock, 2);
+  const Job job = rig.run(machine);
   EXPECT_EQ(job.state, JobState::failed);
   EXPECT_EQ(job.reason.rfind("the lace carriage cannot knit this chart: row 3 (RS), stitch 3 (k2tog)", 0), 0u)
       << job.reason;
   EXPECT_NE(job.reason.find("; 1 more in report.json"), std::string::npos) << job.reason;
-  EXPECT_EQ(rig.opened.load(), 0);
+  EXPECT_EQ(machine.opened(), 0);
 }
 
 TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
-  const RecordingEmulator emulator(2);
   const Chart c{{row({"k", "yo", "sk2p", "yo", "k"}), knit(5), row({"yo", "k", "ssk", "k", "k"}), knit(5)}};
   LaceJobOnDevice rig(c, 5, 4, 2);
-  const Job job = rig.run(emulator.link().string());
+  test::SimulatedKnitter emulator(rig.clock, 2);
+  const Job job = rig.run(emulator);
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(job.progress_done, 8);  // chart rows, repeats_high included
   EXPECT_EQ(job.progress_total, 8);
-  EXPECT_EQ(rig.opened.load(), 1);
+  EXPECT_EQ(emulator.opened(), 1);
 
   const auto plan = plan_lace(c, 5, 4, 2, {});
   ASSERT_TRUE(plan.plan);
@@ -365,11 +360,11 @@ TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
 }
 
 TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
-  const RecordingEmulator emulator(2);
   // Rows with different numbers of lace passes, so rows and passes do not line up.
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4), row({"k2tog", "yo", "k", "k"})}};
   LaceJobOnDevice rig(c, 4, 3, 2, JobState::interrupted);
-  const Job job = rig.run(emulator.link().string(), 4);
+  test::SimulatedKnitter emulator(rig.clock, 2);
+  const Job job = rig.run(emulator, 4);
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(job.progress_done, 6);
   const auto plan = plan_lace(c, 4, 3, 2, {});
@@ -380,8 +375,6 @@ TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
 }
 
 TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
-  // Slow passes, so the cancel surely comes in the middle of chart row 1.
-  const RecordingEmulator emulator(150);
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
   const auto plan = plan_lace(c, 4, 3, 2, {});
   ASSERT_TRUE(plan.plan);
@@ -389,9 +382,11 @@ TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
   while (plan.plan->pattern_row[row1] == 0) ++row1;
   ASSERT_GE(row1, 5u);
   LaceJobOnDevice rig(c, 4, 3, 2);
-  // Canceled once the first transfer pass is done: stopping there would leave the stitches
-  // moved but unknitted (and a resume from row 1 would move them again).
-  const Job job = rig.run(emulator.link().string(), 0, [&] { return !emulator.recorded().empty(); });
+  test::SimulatedKnitter emulator(rig.clock, 150);
+  // Canceled the moment the first transfer pass is done, in the middle of chart row 1:
+  // stopping there would leave the stitches moved but unknitted (and a resume from row 1
+  // would move them again).
+  const Job job = rig.run(emulator, 0, [&] { return !emulator.recorded().empty(); });
   EXPECT_EQ(job.state, JobState::canceled) << job.reason;
   EXPECT_EQ(job.progress_done, 1);
   std::vector<std::string> row_one = pass_lines(*plan.plan, 0);
@@ -402,10 +397,12 @@ TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
 
 TEST(AyabLacePlanOnTheMachine, ALinkLostInTheMiddleOfAChartRowSaysSoWithTheResumeHint) {
   // Unplugged after the second pass of chart row 1 (8 passes: transfers, then two knit rows).
-  const RecordingEmulator emulator(5, {"--fault", "drop-after-row=2:60000"});
   const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
   LaceJobOnDevice rig(c, 4, 3, 2);
-  const Job job = rig.run(emulator.link().string());
+  knit_emu::Faults faults;
+  ASSERT_EQ(knit_emu::apply_fault("drop-after-row=2:60000", faults), "");
+  test::SimulatedKnitter emulator(rig.clock, 5, faults);
+  const Job job = rig.run(emulator);
   ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
   EXPECT_EQ(job.progress_done, 0);
   // Resuming chart row 1 as planned would move the moved stitches again: the reason says so.

@@ -4,14 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cerrno>
-#include <chrono>
 #include <fstream>
 #include <set>
-#include <thread>
 
+#include "base/fake_clock.h"
 #include "daemon/file_drop_device.h"
 #include "daemon/job_service.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/unit/job_watch.h"
 
 namespace fs = std::filesystem;
 using atelier::DeviceConfig;
@@ -35,7 +35,9 @@ struct ReadyJob {
   atelier::test::TempDir tmp;
   SpoolLayout layout{tmp.path() / "spool"};
   Store store{tmp.path() / "jobs.sqlite"};
-  JobService jobs{store, layout, nullptr};
+  atelier::FakeClock clock;  // the worker's idle waits: nothing here moves it
+  atelier::test::JobWatch watch{clock};
+  JobService jobs{store, layout, watch.listener()};
   int64_t id = 0;
 
   ReadyJob() {
@@ -59,15 +61,11 @@ struct ReadyJob {
     return d;
   }
 
-  // Runs the device until the job leaves ready/running (at most 10 s).
+  // Runs the device until it is done with the job (it leaves running).
   atelier::Job run(FileDropDevice& device) {
     device.start_worker();
     device.wake();
-    for (int i = 0; i < 1000; ++i) {
-      auto job = store.get(id);
-      if (job->state != JobState::ready && job->state != JobState::running) return *job;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+    EXPECT_TRUE(watch.wait_left(id, JobState::running));
     return *store.get(id);
   }
 };
@@ -95,7 +93,7 @@ TEST(FileDropDevice, WritesEveryFormatUnderTheJobsNameAndCompletesTheJob) {
   ReadyJob r;
   const fs::path stick = r.tmp.path() / "EMB";
   fs::create_directories(stick);
-  FileDropDevice device(r.device(stick), r.jobs);
+  FileDropDevice device(r.device(stick), r.jobs, nullptr, r.clock);
   const atelier::Job job = r.run(device);
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   const std::string dst = std::to_string(r.id) + "-my_cat.dst";
@@ -110,7 +108,7 @@ TEST(FileDropDevice, WritesEveryFormatUnderTheJobsNameAndCompletesTheJob) {
 
 TEST(FileDropDevice, AMissingFolderFailsTheJobWithItsReasonAndKeepsTheDesign) {
   ReadyJob r;
-  FileDropDevice device(r.device(r.tmp.path() / "not-mounted"), r.jobs);
+  FileDropDevice device(r.device(r.tmp.path() / "not-mounted"), r.jobs, nullptr, r.clock);
   const atelier::Job job = r.run(device);
   ASSERT_EQ(job.state, JobState::failed);
   EXPECT_NE(job.reason.find("not-mounted is missing"), std::string::npos) << job.reason;
@@ -122,7 +120,7 @@ TEST(FileDropDevice, AFullStickFailsTheJobAndTakesBackWhatItHadWritten) {
   ReadyJob r;
   std::set<std::string> files;
   FileDropDevice device(r.device("/media/EMB"), r.jobs,
-                        [&](const fs::path&) { return std::make_unique<FullStick>(1, files); });
+                        [&](const fs::path&) { return std::make_unique<FullStick>(1, files); }, r.clock);
   const atelier::Job job = r.run(device);
   ASSERT_EQ(job.state, JobState::failed);
   EXPECT_NE(job.reason.find("No space left"), std::string::npos) << job.reason;

@@ -1,23 +1,24 @@
-// The GRBL host session against a scripted controller on an in-memory link: a test thread
+// The GRBL host session against a scripted controller on a simulated link: the controller
 // plays GRBL 1.1h (banner, $I, $$, receive buffer with a 15-block planner, real-time bytes,
-// check mode, alarms) and records what the host sent, so the tests assert what a user of a
-// real laser would notice: nothing overflows, errors name the line, cancel stops the beam.
+// check mode, alarms) in lock step with the session on a fake clock, and records what the
+// host sent, so the tests assert what a user of a real laser would notice: nothing overflows,
+// errors name the line, cancel stops the beam.
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
-#include <thread>
+#include <memory>
+#include <optional>
+#include <utility>
 
+#include "base/fake_clock.h"
 #include "drivers/grbl/session.h"
-#include "drivers/memory_transport.h"
+#include "drivers/simulated_transport.h"
 
 namespace atelier::grbl {
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
 
 struct FakeScript {
   bool banner_at_start = true;  // false: the board printed it before we opened the port
@@ -31,42 +32,66 @@ struct FakeScript {
   std::chrono::milliseconds motion{3};     // time each G-code motion line takes
 };
 
-// Plays GRBL 1.1h on one end of a memory pair.
-class FakeGrbl {
+// Plays GRBL 1.1h as the far end of a SimulatedTransport, on the test's FakeClock: real-time
+// bytes act at once, lines wait in a 128-byte receive buffer and are parsed while the 15-block
+// planner has room, and motion drains the planner as the clock moves (looked at every 1 ms
+// while anything moves, as a controller's main loop would).
+class FakeGrbl : public SimulatedPeer {
  public:
-  FakeGrbl(MemoryTransport& link, FakeScript script) : link_(link), s_(script), thread_([this] { run(); }) {}
-  ~FakeGrbl() {
-    stop_ = true;
-    thread_.join();
+  FakeGrbl(FakeScript script, Clock::time_point now) : s_(script), now_(now) {
+    if (s_.start_in_alarm) alarm_ = true;
+    if (s_.banner_at_start) banner();
   }
 
   // What the host sent, in order: "line:TEXT" when a line's newline arrived, "!", "~",
   // "reset" (0x18). Status requests are counted, not listed.
-  std::vector<std::string> events() {
-    std::lock_guard lock(mutex_);
-    return events_;
-  }
-  std::vector<std::string> executed() {  // G-code lines parsed, in order
-    std::lock_guard lock(mutex_);
-    return executed_;
-  }
-  size_t max_buffered() const { return max_buffered_; }        // most bytes in the receive buffer
-  size_t max_lines_buffered() const { return max_lines_; }     // most complete lines waiting there
+  const std::vector<std::string>& events() const { return events_; }
+  const std::vector<std::string>& executed() const { return executed_; }  // G-code lines parsed, in order
+  size_t max_buffered() const { return max_buffered_; }     // most bytes in the receive buffer
+  size_t max_lines_buffered() const { return max_lines_; }  // most complete lines waiting there
   int status_requests() const { return status_requests_; }
   bool overflowed() const { return overflowed_; }
-  std::string state_name() {  // as of the fake's last loop turn (1 ms ago at most)
-    std::lock_guard lock(mutex_);
-    return published_state_;
+  std::string state_name() const { return state(); }  // as of the last time the host looked
+
+  void receive(const uint8_t* data, size_t size, Clock::time_point now) override {
+    if (silent_) return;
+    run_until(now);
+    for (size_t i = 0; i < size && !unplugged_; ++i) {
+      const uint8_t b = data[i];
+      if (b == '?' || b == '!' || b == '~' || b == 0x18) {
+        realtime(b);
+        continue;
+      }
+      buffer_.push_back(static_cast<char>(b));
+      if (buffer_.size() > 128) overflowed_ = true;
+      max_buffered_ = std::max(max_buffered_, buffer_.size());
+      if (b == '\n') {
+        events_.push_back("line:" + partial_);
+        partial_.clear();
+        max_lines_ = std::max<size_t>(max_lines_, std::count(buffer_.begin(), buffer_.end(), '\n'));
+      } else {
+        partial_.push_back(static_cast<char>(b));
+      }
+    }
+    parse_lines();
   }
+  std::vector<uint8_t> take_output(Clock::time_point now) override {
+    if (!silent_) run_until(now);
+    return std::exchange(out_, {});
+  }
+  std::optional<Clock::time_point> next_event() const override {
+    if (silent_ || unplugged_) return std::nullopt;
+    const bool moving = !held_ && motion_left_ > 0;
+    const bool settling = held_ && motion_left_ > 0 && now_ - hold_since_ < 30ms;
+    if (moving || settling) return now_ + 1ms;
+    return std::nullopt;
+  }
+  bool unplugged() const override { return unplugged_; }
 
  private:
   void send(const std::string& line) {
     const std::string wire = line + "\r\n";
-    link_.write(reinterpret_cast<const uint8_t*>(wire.data()), wire.size());
-  }
-  void event(std::string e) {
-    std::lock_guard lock(mutex_);
-    events_.push_back(std::move(e));
+    out_.insert(out_.end(), wire.begin(), wire.end());
   }
   void banner() {
     send("");
@@ -74,12 +99,30 @@ class FakeGrbl {
     if (alarm_) send("[MSG:'$H'|'$X' to unlock]");
   }
 
-  // Fake's thread only.
+  // Motion up to `now`, then whatever the freed planner blocks let the parser take.
+  void run_until(Clock::time_point now) {
+    if (now <= now_) return;
+    const double elapsed = std::chrono::duration<double, std::milli>(now - now_).count();
+    now_ = now;
+    if (!held_ && motion_left_ > 0) motion_left_ = std::max(0.0, motion_left_ - elapsed);
+    parse_lines();
+  }
+  // Parse lines while the planner has room (GRBL stops reading when it is full).
+  void parse_lines() {
+    while (!critical_ && !silent_ && !unplugged_ && blocks() < 15) {
+      const size_t nl = buffer_.find('\n');
+      if (nl == std::string::npos) break;
+      std::string line = buffer_.substr(0, nl);
+      buffer_.erase(0, nl + 1);
+      execute(line);
+    }
+  }
+
   std::string state() const {
     if (alarm_) return "Alarm";
     if (check_) return "Check";
     if (held_) {
-      const bool stopping = s_.hold_never_settles || (motion_left_ > 0 && Clock::now() - hold_since_ < 30ms);
+      const bool stopping = s_.hold_never_settles || (motion_left_ > 0 && now_ - hold_since_ < 30ms);
       return stopping ? "Hold:1" : "Hold:0";
     }
     return motion_left_ > 0 ? "Run" : "Idle";
@@ -89,7 +132,7 @@ class FakeGrbl {
   }
 
   void reset() {
-    event("reset");
+    events_.push_back("reset");
     buffer_.clear();
     partial_.clear();
     const bool moving = !alarm_ && (state() == "Run" || state() == "Hold:1");
@@ -112,14 +155,14 @@ class FakeGrbl {
              std::to_string(128 - buffer_.size()) + "|FS:600,300>");
         break;
       case '!':
-        event("!");
+        events_.push_back("!");
         if (!alarm_ && !check_ && !held_) {
           held_ = true;
-          hold_since_ = Clock::now();
+          hold_since_ = now_;
         }
         break;
       case '~':
-        event("~");
+        events_.push_back("~");
         held_ = false;
         break;
       case 0x18:
@@ -161,16 +204,14 @@ class FakeGrbl {
     if (line[0] == '$') return send("ok");
 
     const int g = gcode_++;
-    {
-      std::lock_guard lock(mutex_);
-      executed_.push_back(line);
-    }
+    executed_.push_back(line);
     if (g == s_.silent_at) {
       silent_ = true;
       return;
     }
     if (g == s_.disconnect_at) {
-      link_.disconnect();
+      unplugged_ = true;
+      out_.clear();  // what was still on its way is lost with the cable
       return;
     }
     if (alarm_) return send("error:9");
@@ -186,66 +227,18 @@ class FakeGrbl {
     send("ok");
   }
 
-  void run() {
-    if (s_.start_in_alarm) alarm_ = true;
-    try {
-      if (s_.banner_at_start) banner();
-      uint8_t buf[256];
-      auto last = Clock::now();
-      while (!stop_) {
-        const size_t n = link_.read(buf, sizeof buf, 1ms);
-        if (silent_) continue;
-        for (size_t i = 0; i < n; ++i) {
-          const uint8_t b = buf[i];
-          if (b == '?' || b == '!' || b == '~' || b == 0x18) {
-            realtime(b);
-            continue;
-          }
-          buffer_.push_back(static_cast<char>(b));
-          if (buffer_.size() > 128) overflowed_ = true;
-          max_buffered_ = std::max(max_buffered_.load(), buffer_.size());
-          if (b == '\n') {
-            event("line:" + partial_);
-            partial_.clear();
-            max_lines_ = std::max<size_t>(max_lines_, std::count(buffer_.begin(), buffer_.end(), '\n'));
-          } else {
-            partial_.push_back(static_cast<char>(b));
-          }
-        }
-        const auto now = Clock::now();
-        const auto elapsed = std::chrono::duration_cast<std::chrono::microseconds>(now - last).count() / 1000.0;
-        last = now;
-        if (!held_ && motion_left_ > 0) motion_left_ = std::max(0.0, motion_left_ - elapsed);
-        // Parse lines while the planner has room (GRBL stops reading when it is full).
-        while (!critical_ && !silent_ && blocks() < 15) {
-          const size_t nl = buffer_.find('\n');
-          if (nl == std::string::npos) break;
-          std::string line = buffer_.substr(0, nl);
-          buffer_.erase(0, nl + 1);
-          execute(line);
-        }
-        std::lock_guard lock(mutex_);
-        published_state_ = state();
-      }
-    } catch (const LinkLost&) {
-    }
-  }
-
-  MemoryTransport& link_;
   FakeScript s_;
+  Clock::time_point now_;  // the clock when motion was last run
+  std::vector<uint8_t> out_;
   std::string buffer_, partial_;
   double motion_left_ = 0;  // ms of motion queued
-  bool held_ = false, check_ = false, alarm_ = false, critical_ = false, silent_ = false;
+  bool held_ = false, check_ = false, alarm_ = false, critical_ = false, silent_ = false, unplugged_ = false;
   Clock::time_point hold_since_;
   int gcode_ = 0;
-  std::atomic<size_t> max_buffered_{0}, max_lines_{0};
-  std::atomic<int> status_requests_{0};
-  std::atomic<bool> overflowed_{false};
-  std::atomic<bool> stop_{false};
-  std::mutex mutex_;
+  size_t max_buffered_ = 0, max_lines_ = 0;
+  int status_requests_ = 0;
+  bool overflowed_ = false;
   std::vector<std::string> events_, executed_;
-  std::string published_state_ = "Idle";
-  std::thread thread_;  // last: starts once everything above exists
 };
 
 Timeouts fast() {
@@ -257,6 +250,25 @@ Timeouts fast() {
   t.stop = 500ms;
   return t;
 }
+
+// Nothing at the other end: whatever the host sends goes unanswered.
+struct NoController : SimulatedPeer {
+  void receive(const uint8_t*, size_t, Clock::time_point) override {}
+  std::vector<uint8_t> take_output(Clock::time_point) override { return {}; }
+  std::optional<Clock::time_point> next_event() const override { return std::nullopt; }
+};
+
+// A session and its fake controller on one FakeClock: the session's reads move the clock, so
+// every timeout, poll and motion below runs in simulated time only.
+struct Rig {
+  explicit Rig(FakeScript script = {})
+      : fake(std::make_shared<FakeGrbl>(script, clock.now())), link(fake, clock), s(link, fast(), clock) {}
+
+  FakeClock clock;
+  std::shared_ptr<FakeGrbl> fake;
+  SimulatedTransport link;
+  Session s;
+};
 
 // A job of `n` moves with lines of varied length, behind a two-line header.
 std::string job_text(int n) {
@@ -285,9 +297,9 @@ size_t index_of(const std::vector<std::string>& v, const std::string& s, size_t 
 }
 
 TEST(GrblSession, ConnectReadsBuildInfoAndSettings) {
-  auto [host, ctl] = make_memory_pair();
-  FakeGrbl fake(*ctl, {});
-  Session s(*host, fast());
+  Rig rig;
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   const MachineInfo info = s.connect();
   EXPECT_EQ(info.version, "1.1h.20190830");
   EXPECT_EQ(info.rx_buffer, 128);
@@ -303,11 +315,11 @@ TEST(GrblSession, ConnectReadsBuildInfoAndSettings) {
 }
 
 TEST(GrblSession, ConnectResetsABoardThatPrintedItsBannerBeforeWeOpened) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.banner_at_start = false;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   EXPECT_EQ(s.connect().version, "1.1h.20190830");
   const auto ev = fake.events();
   ASSERT_FALSE(ev.empty());
@@ -315,11 +327,10 @@ TEST(GrblSession, ConnectResetsABoardThatPrintedItsBannerBeforeWeOpened) {
 }
 
 TEST(GrblSession, ConnectNotesTheAlarmLock) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.start_in_alarm = true;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  Session& s = rig.s;
   EXPECT_TRUE(s.connect().alarm_locked);
   s.unlock();
   EXPECT_FALSE(s.info().alarm_locked);
@@ -327,11 +338,10 @@ TEST(GrblSession, ConnectNotesTheAlarmLock) {
 }
 
 TEST(GrblSession, LaserModeOffIsASetupErrorThatSaysWhatToDo) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.laser_mode = 0;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  Session& s = rig.s;
   try {
     s.connect();
     FAIL() << "expected SetupError";
@@ -341,8 +351,9 @@ TEST(GrblSession, LaserModeOffIsASetupErrorThatSaysWhatToDo) {
 }
 
 TEST(GrblSession, NoControllerIsASetupError) {
-  auto [host, ctl] = make_memory_pair();  // nothing answers
-  Session s(*host, fast());
+  FakeClock clock;
+  SimulatedTransport host(std::make_shared<NoController>(), clock);  // nothing answers
+  Session s(host, fast(), clock);
   try {
     s.connect();
     FAIL() << "expected SetupError";
@@ -352,9 +363,9 @@ TEST(GrblSession, NoControllerIsASetupError) {
 }
 
 TEST(GrblSession, CharacterCountingFillsButNeverOverflowsTheReceiveBuffer) {
-  auto [host, ctl] = make_memory_pair();
-  FakeGrbl fake(*ctl, {});
-  Session s(*host, fast());
+  Rig rig;
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(400), 6000);
   Controls c;
@@ -380,9 +391,9 @@ TEST(GrblSession, CharacterCountingFillsButNeverOverflowsTheReceiveBuffer) {
 }
 
 TEST(GrblSession, SendResponseKeepsOneLineInFlight) {
-  auto [host, ctl] = make_memory_pair();
-  FakeGrbl fake(*ctl, {});
-  Session s(*host, fast());
+  Rig rig;
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(60), 6000);
   Controls c;
@@ -392,12 +403,12 @@ TEST(GrblSession, SendResponseKeepsOneLineInFlight) {
 }
 
 TEST(GrblSession, ErrorNamesTheSourceLineAndStopsSending) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.error_at = 20;  // G-code line 20 = the 20th move (line 0 is G21G90)
   script.motion = 20ms;  // slow motion, so the buffer is full when the error comes
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(200), 6000);
   Controls c;
@@ -426,11 +437,11 @@ TEST(GrblSession, ErrorNamesTheSourceLineAndStopsSending) {
 }
 
 TEST(GrblSession, AlarmFailsTheJobWithItsMeaning) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.alarm_at = 10;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(100), 6000);
   Controls c;
@@ -447,21 +458,21 @@ TEST(GrblSession, AlarmFailsTheJobWithItsMeaning) {
 }
 
 TEST(GrblSession, CancelHoldsResetsAndTurnsTheBeamOff) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.motion = 10ms;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(300), 6000);
   Controls c;
-  const auto t0 = Clock::now();
+  const auto t0 = rig.clock.now();
   EXPECT_THROW(s.stream(p, StreamMode::character_counting, c,
                         [&](const Progress& pr) {
                           if (pr.acked >= 30) c.cancel = true;
                         }),
                Canceled);
-  EXPECT_LT(Clock::now() - t0, 5s);
+  EXPECT_LT(rig.clock.now() - t0, 5s);
   const auto ev = fake.events();
   const size_t hold = index_of(ev, "!");
   const size_t reset = index_of(ev, "reset", hold);
@@ -475,21 +486,21 @@ TEST(GrblSession, CancelHoldsResetsAndTurnsTheBeamOff) {
 }
 
 TEST(GrblSession, CancelWhileStillMovingResetsAtOnceAndLeavesTheLockToTheOperator) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.motion = 10ms;
   script.hold_never_settles = true;  // a slow deceleration: the beam must not wait for it
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(300), 6000);
   Controls c;
   std::string message;
-  std::chrono::steady_clock::time_point asked;
+  Clock::time_point asked;
   try {
     s.stream(p, StreamMode::character_counting, c, [&](const Progress& pr) {
       if (pr.acked >= 30 && !c.cancel) {
-        asked = std::chrono::steady_clock::now();
+        asked = rig.clock.now();
         c.cancel = true;
       }
     });
@@ -502,7 +513,7 @@ TEST(GrblSession, CancelWhileStillMovingResetsAtOnceAndLeavesTheLockToTheOperato
   const size_t reset = index_of(ev, "reset", hold);
   ASSERT_LT(reset, ev.size());
   // The reset (beam off) came within the 80 ms hold budget plus a poll, not after timeouts.stop.
-  EXPECT_LT(std::chrono::steady_clock::now() - asked, 1s);
+  EXPECT_LT(rig.clock.now() - asked, 1s);
   // Our reset in motion raised ALARM:3: the position may be lost, so no $X behind the
   // operator's back, and no M5 into the lock.
   EXPECT_EQ(index_of(ev, "line:$X", reset), ev.size());
@@ -511,27 +522,27 @@ TEST(GrblSession, CancelWhileStillMovingResetsAtOnceAndLeavesTheLockToTheOperato
 }
 
 TEST(GrblSession, HoldAndResumeSendTheRealTimeBytes) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.motion = 5ms;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(120), 6000);
   Controls c;
-  std::thread releaser;
+  std::optional<Clock::time_point> held_at;
   bool held_seen = false;
   s.stream(p, StreamMode::character_counting, c, [&](const Progress& pr) {
     if (pr.status.state == "Hold") held_seen = true;
-    if (pr.acked >= 20 && !releaser.joinable()) {
+    if (pr.acked >= 20 && !held_at) {
       c.hold = true;
-      releaser = std::thread([&] {
-        std::this_thread::sleep_for(300ms);
-        c.hold = false;
-      });
+      held_at = rig.clock.now();
     }
+    // The operator lets go 300 ms (of the clock) after holding.
+    if (held_at && c.hold && rig.clock.now() - *held_at >= 300ms) c.hold = false;
   });
-  releaser.join();
+  ASSERT_TRUE(held_at);
+  EXPECT_FALSE(c.hold.load());
   EXPECT_TRUE(held_seen);
   const auto ev = fake.events();
   EXPECT_EQ(std::count(ev.begin(), ev.end(), "!"), 1);
@@ -541,25 +552,23 @@ TEST(GrblSession, HoldAndResumeSendTheRealTimeBytes) {
 }
 
 TEST(GrblSession, SilentControllerIsDetected) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.silent_at = 5;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(50), 6000);
   Controls c;
-  const auto t0 = Clock::now();
+  const auto t0 = rig.clock.now();
   EXPECT_THROW(s.stream(p, StreamMode::character_counting, c, {}), Silent);
-  EXPECT_LT(Clock::now() - t0, 3s);
+  EXPECT_LT(rig.clock.now() - t0, 3s);
 }
 
 TEST(GrblSession, LostLinkPropagates) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.disconnect_at = 5;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(50), 6000);
   Controls c;
@@ -567,9 +576,9 @@ TEST(GrblSession, LostLinkPropagates) {
 }
 
 TEST(GrblSession, CheckModeRunsTheJobThenWaitsForTheResetThatEndsIt) {
-  auto [host, ctl] = make_memory_pair();
-  FakeGrbl fake(*ctl, {});
-  Session s(*host, fast());
+  Rig rig;
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(80), 6000);
   Controls c;
@@ -590,11 +599,10 @@ TEST(GrblSession, CheckModeRunsTheJobThenWaitsForTheResetThatEndsIt) {
 }
 
 TEST(GrblSession, CheckModeReportsTheFirstBadLine) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.error_at = 7;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  Session& s = rig.s;
   s.connect();
   const Program p = parse_program(job_text(80), 6000);
   Controls c;
@@ -609,9 +617,9 @@ TEST(GrblSession, CheckModeReportsTheFirstBadLine) {
 }
 
 TEST(GrblSession, FrameTracesTheBoundsAndWaitsForIdle) {
-  auto [host, ctl] = make_memory_pair();
-  FakeGrbl fake(*ctl, {});
-  Session s(*host, fast());
+  Rig rig;
+  const FakeGrbl& fake = *rig.fake;
+  Session& s = rig.s;
   s.connect();
   Controls c;
   s.frame(Bounds{0, 0, 100, 50}, 3000, c);
@@ -620,11 +628,10 @@ TEST(GrblSession, FrameTracesTheBoundsAndWaitsForIdle) {
 }
 
 TEST(GrblSession, CommandErrorNamesTheCommand) {
-  auto [host, ctl] = make_memory_pair();
   FakeScript script;
   script.start_in_alarm = true;
-  FakeGrbl fake(*ctl, script);
-  Session s(*host, fast());
+  Rig rig(script);
+  Session& s = rig.s;
   s.connect();
   try {
     s.command("G0X10");

@@ -1,8 +1,12 @@
 // The real atelier-knit-emu program on a pseudo-terminal, driven by hand with the message
-// encoders. Deadlines below only guard against hangs; nothing asserts on speed.
+// encoders. The program keeps the real clock (its model runs on it), so this test cannot use a
+// fake one: it waits only for the program's own events - bytes on the pty, the link going and
+// coming back (inotify) - each wait bounded by a guard against hangs. Nothing here sleeps,
+// reads the clock or asserts on speed.
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/inotify.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <termios.h>
@@ -10,11 +14,11 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <thread>
+#include <utility>
 #include <vector>
 
 #include "drivers/ayab/messages.h"
@@ -24,8 +28,8 @@ namespace {
 
 namespace ab = atelier::ayab;
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-constexpr auto kHangGuard = std::chrono::seconds(10);
+// Longest wait for the program's next event before the test calls it hung.
+constexpr int kHangGuardMs = 10000;
 
 class Emulator {
  public:
@@ -56,7 +60,7 @@ class Emulator {
     std::string line;
     char c;
     pollfd p{stdout_, POLLIN, 0};
-    while (::poll(&p, 1, 10000) > 0 && ::read(stdout_, &c, 1) == 1 && c != '\n') line.push_back(c);
+    while (::poll(&p, 1, kHangGuardMs) > 0 && ::read(stdout_, &c, 1) == 1 && c != '\n') line.push_back(c);
     return line;
   }
   int stop() {
@@ -89,11 +93,11 @@ class Port {
     const ab::Bytes b = ab::slip_encode(ab::encode(m));
     ASSERT_EQ(::write(fd_, b.data(), b.size()), static_cast<ssize_t>(b.size()));
   }
-  // Reads messages until one satisfies `want`; nullopt on hang guard or link loss.
+  // Reads messages until one satisfies `want`; nullopt on link loss, or when nothing comes
+  // for kHangGuardMs.
   template <class T>
   std::optional<T> wait_for(const std::function<bool(const T&)>& want = [](const T&) { return true; }) {
-    const auto deadline = Clock::now() + kHangGuard;
-    while (Clock::now() < deadline) {
+    for (;;) {
       for (auto& m : pending_) {
         if (auto* t = std::get_if<T>(&m); t && want(*t)) {
           T found = *t;
@@ -103,7 +107,7 @@ class Port {
       }
       pending_.clear();
       pollfd p{fd_, POLLIN, 0};
-      if (::poll(&p, 1, 100) <= 0) continue;
+      if (::poll(&p, 1, kHangGuardMs) <= 0) return std::nullopt;
       uint8_t buf[512];
       const ssize_t n = ::read(fd_, buf, sizeof buf);
       if (n <= 0) return std::nullopt;
@@ -112,7 +116,6 @@ class Port {
         if (d.message) pending_.push_back(*d.message);
       }
     }
-    return std::nullopt;
   }
 
  private:
@@ -161,14 +164,43 @@ std::vector<std::string> read_lines(const fs::path& p) {
   return lines;
 }
 
-bool wait_until(const std::function<bool()>& cond) {
-  const auto deadline = Clock::now() + kHangGuard;
-  while (Clock::now() < deadline) {
-    if (cond()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+// What happens to the entries of a folder (inotify), so the test sees the link go and come
+// back when it does, without polling for it.
+class FolderWatch {
+ public:
+  explicit FolderWatch(const fs::path& dir) : fd_(::inotify_init1(IN_CLOEXEC)) {
+    EXPECT_GE(fd_, 0);
+    EXPECT_GE(::inotify_add_watch(fd_, dir.c_str(), IN_CREATE | IN_DELETE | IN_MOVED_TO | IN_MOVED_FROM), 0);
   }
-  return false;
-}
+  ~FolderWatch() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  // Waits for an event in `mask` on the entry `name`, skipping others; false when none comes
+  // for kHangGuardMs.
+  bool wait_for(const std::string& name, uint32_t mask) {
+    for (;;) {
+      while (!events_.empty()) {
+        const auto [what, who] = events_.front();
+        events_.pop_front();
+        if ((what & mask) && who == name) return true;
+      }
+      pollfd p{fd_, POLLIN, 0};
+      if (::poll(&p, 1, kHangGuardMs) <= 0) return false;
+      alignas(inotify_event) char buf[4096];
+      const ssize_t n = ::read(fd_, buf, sizeof buf);
+      if (n <= 0) return false;
+      for (const char* at = buf; at < buf + n;) {
+        const auto* ev = reinterpret_cast<const inotify_event*>(at);
+        events_.emplace_back(ev->mask, ev->len > 0 ? std::string(ev->name) : std::string());
+        at += sizeof(inotify_event) + ev->len;
+      }
+    }
+  }
+
+ private:
+  int fd_;
+  std::deque<std::pair<uint32_t, std::string>> events_;  // read, not yet looked at
+};
 
 fs::path temp_dir(const std::string& name) {
   fs::path d = fs::temp_directory_path() / ("knit_emu_" + name + "_" + std::to_string(::getpid()));
@@ -207,14 +239,16 @@ TEST(KnitEmuProgram, DropAfterRowRemovesTheLinkAndReplugsAFreshFirmware) {
   Emulator emu({"--machine", "kh930", "--link", link, "--record", record, "--row-ms", "5", "--boot-ms", "0",
                 "--fault", "drop-after-row=2:300"});
   emu.ready_line();
+  FolderWatch watch(dir);
   {
     Port port(link);
     ASSERT_TRUE(port.ok());
     init_and_start(port);
     knit(port, {"11000000", "00110000"}, 0);
-    EXPECT_TRUE(wait_until([&] { return !fs::exists(fs::symlink_status(link)); })) << "link still there";
+    EXPECT_TRUE(watch.wait_for("ttyKNIT", IN_DELETE | IN_MOVED_FROM)) << "link still there";
   }
-  ASSERT_TRUE(wait_until([&] { return fs::is_symlink(link); })) << "link did not come back";
+  ASSERT_TRUE(watch.wait_for("ttyKNIT", IN_CREATE | IN_MOVED_TO)) << "link did not come back";
+  ASSERT_TRUE(fs::is_symlink(link));
   {
     Port port(link);
     ASSERT_TRUE(port.ok());

@@ -11,8 +11,10 @@
 #include <mutex>
 #include <thread>
 
+#include "base/fake_clock.h"
 #include "daemon/scheduler.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/unit/job_watch.h"
 
 namespace fs = std::filesystem;
 using namespace atelier;
@@ -20,20 +22,28 @@ using namespace atelier;
 namespace {
 
 // Records every task; each run waits until released (or canceled), then ends as scripted.
+// Like a real runner it looks at its cancel flag every so often (every 10 ms of the test's
+// FakeClock); tick() lets it take its next look.
 class FakeRunner : public ConversionRunner {
  public:
+  explicit FakeRunner(FakeClock& clock) : clock_(clock) {}
+
   ConversionOutcome run(const ConversionTask& task, const std::function<void(double)>& progress,
                         const std::atomic<bool>& cancel) override {
     progress(0.5);  // before the task shows: a test that sees the task sees the progress
-    {
-      std::lock_guard lock(mu_);
-      tasks_.push_back(task);
-      ++running_;
-    }
-    cv_.notify_all();
     std::unique_lock lock(mu_);
-    while (!released_ && !cancel.load()) cv_.wait_for(lock, std::chrono::milliseconds(10));
+    tasks_.push_back(task);
+    ++running_;
+    cv_.notify_all();
+    while (!released_ && !cancel.load()) {
+      ++looks_;
+      waiting_ = true;
+      cv_.notify_all();
+      clock_.wait_for(cv_, lock, std::chrono::milliseconds(10), [&] { return released_; });
+      waiting_ = false;
+    }
     --running_;
+    cv_.notify_all();
     if (cancel.load() && !released_) return {ConversionOutcome::Status::canceled, "canceled"};
     bool bad = fail_ || bad_dirs_.count(task.output_dir);
     for (const auto& [input, output] : task.together) bad = bad || bad_dirs_.count(output);
@@ -42,14 +52,30 @@ class FakeRunner : public ConversionRunner {
     std::ofstream(task.output_dir / "plan.json") << "{}";
     return {ConversionOutcome::Status::ok, ""};
   }
+  // Until `n` tasks have been seen and one is under way.
   bool wait_tasks(size_t n) {
     std::unique_lock lock(mu_);
-    return cv_.wait_for(lock, std::chrono::seconds(10), [&] { return tasks_.size() >= n && running_ > 0; });
+    cv_.wait(lock, [&] { return tasks_.size() >= n && running_ > 0; });
+    return true;
+  }
+  // Lets the conversion under way look at its cancel flag once more: waits until it waits for
+  // its next look, then moves the clock there. False once no conversion is under way.
+  bool tick() {
+    std::unique_lock lock(mu_);
+    cv_.wait(lock, [&] { return running_ == 0 || (waiting_ && looks_ != ticked_); });
+    if (running_ == 0) return false;
+    ticked_ = looks_;
+    lock.unlock();
+    clock_.advance(std::chrono::milliseconds(10));
+    return true;
   }
   void release(bool fail = false) {
-    std::lock_guard lock(mu_);
-    released_ = true;
-    fail_ = fail;
+    {
+      std::lock_guard lock(mu_);
+      released_ = true;
+      fail_ = fail;
+    }
+    cv_.notify_all();
   }
   // Any conversion that includes the job writing to `dir` fails (a bad input in a batch).
   void fail_output(const std::filesystem::path& dir) {
@@ -62,10 +88,13 @@ class FakeRunner : public ConversionRunner {
   }
 
  private:
+  FakeClock& clock_;
   std::mutex mu_;
-  std::condition_variable cv_;
+  std::condition_variable_any cv_;
   std::vector<ConversionTask> tasks_;
   int running_ = 0;
+  bool waiting_ = false;            // a run waits for its next look at the cancel flag
+  uint64_t looks_ = 0, ticked_ = 0;  // waits begun; the last one tick() moved the clock for
   bool released_ = false, fail_ = false;
   std::set<std::filesystem::path> bad_dirs_;
 };
@@ -74,8 +103,10 @@ struct Rig {
   test::TempDir tmp;
   SpoolLayout layout{tmp.path() / "spool"};
   Store store{tmp.path() / "jobs.sqlite"};
-  JobService jobs{store, layout, nullptr};
-  FakeRunner runner;
+  FakeClock clock;  // the runner's looks at its cancel flag
+  test::JobWatch watch{clock};
+  JobService jobs{store, layout, watch.listener()};
+  FakeRunner runner{clock};
   std::shared_ptr<const Config> config;
   Scheduler scheduler{jobs, runner, [this] { return config; }};
 
@@ -93,12 +124,11 @@ struct Rig {
     return id;
   }
   JobState state(int64_t id) { return store.get(id)->state; }
+  // Until job `id` is in `s`, or has settled in another state (ready, completed, failed,
+  // canceled: the scheduler is done with it). Whether it is in `s`.
   bool wait_state(int64_t id, JobState s) {
-    for (int i = 0; i < 500; ++i) {
-      if (state(id) == s) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+    const auto settled = {s, JobState::ready, JobState::completed, JobState::failed, JobState::canceled};
+    return watch.wait_state_in(id, settled) == s;
   }
 };
 
@@ -167,6 +197,7 @@ TEST(SchedulerBatch, CancelingOneJobConvertsTheOthersAgain) {
   rig.scheduler.start(1);
   ASSERT_TRUE(rig.runner.wait_tasks(1));
   ASSERT_TRUE(rig.scheduler.cancel(b));
+  ASSERT_TRUE(rig.runner.tick());  // the conversion sees its flag
   ASSERT_TRUE(rig.wait_state(b, JobState::canceled));
   ASSERT_TRUE(rig.runner.wait_tasks(2));  // a alone, at once
   EXPECT_EQ(rig.runner.tasks()[1].job_id, a);
@@ -182,7 +213,12 @@ TEST(SchedulerBatch, AStoppedBatchIsQueuedAgainWholeAndRecovered) {
   const int64_t b = rig.drop("parquetry", "b.jpg");
   rig.scheduler.start(1);
   ASSERT_TRUE(rig.runner.wait_tasks(1));
-  rig.scheduler.stop();
+  // stop() sets the conversion's cancel flag first, then waits for it to end: let the
+  // conversion look at its flag until it has seen it.
+  std::thread stopper([&] { rig.scheduler.stop(); });
+  while (rig.runner.tick()) {
+  }
+  stopper.join();
   EXPECT_EQ(rig.state(a), JobState::queued);
   EXPECT_EQ(rig.state(b), JobState::queued);
   EXPECT_EQ(rig.jobs.recover(), (std::vector<int64_t>{a, b}));

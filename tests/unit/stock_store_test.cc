@@ -1,17 +1,22 @@
 // The stock of used wood on disk (inventory/stock_store.h): stock.json round trip,
 // corrupt files named, and the lock that serialises conversions.
+#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
-#include <chrono>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "inventory/stock_store.h"
+#include "tests/unit/thread_state.h"
 
 namespace atelier {
 namespace {
@@ -82,17 +87,27 @@ TEST_F(StockStoreTest, CorruptFilesAreNamed) {
 
 TEST_F(StockStoreTest, LockExcludesASecondHolderUntilReleased) {
   std::atomic<bool> second_has_it{false};
+  std::promise<pid_t> second_thread;
   std::thread other;
   {
     StockLock first(dir_);
     EXPECT_TRUE(fs::exists(dir_ / "stock.lock"));
+    // Nobody else gets the lock while we hold it: a try on the file is refused.
+    const int probe = ::open((dir_ / "stock.lock").c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(probe, 0);
+    const int tried = ::flock(probe, LOCK_EX | LOCK_NB);
+    const int why = errno;
+    ::close(probe);
+    EXPECT_EQ(tried, -1);
+    EXPECT_EQ(why, EWOULDBLOCK);
     other = std::thread([&] {
+      second_thread.set_value(test::this_thread_id());
       StockLock second(dir_);
       second_has_it = true;
     });
-    // No timing assertion: the second holder cannot get in while we hold the lock, whatever
-    // the scheduling, so after any wait it still must not have it.
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    // A second holder waits for it: once it is blocked in flock(2) it still must not have it.
+    // (No timing assertion: whatever the scheduling, it cannot get in while we hold the lock.)
+    test::wait_until_in_syscall(second_thread.get_future().get(), {SYS_flock});
     EXPECT_FALSE(second_has_it.load());
   }
   other.join();

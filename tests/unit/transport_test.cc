@@ -1,6 +1,8 @@
-// Transports: the in-memory pair and the serial port on a real pseudo-terminal.
+// Transports: the in-memory pair (on a fake clock) and the serial port on a real
+// pseudo-terminal (whose own timeouts are real time: the only real waits here).
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <pty.h>
 #include <sys/ioctl.h>
 #include <unistd.h>
@@ -10,8 +12,10 @@
 #include <future>
 #include <string>
 
+#include "base/fake_clock.h"
 #include "drivers/memory_transport.h"
 #include "drivers/serial_transport.h"
+#include "tests/unit/thread_state.h"
 
 namespace atelier {
 namespace {
@@ -34,17 +38,41 @@ void write_str(Transport& t, const std::string& s) {
 }
 
 TEST(TransportMemory, BytesFlowBothWaysAndTimeoutReturnsZero) {
-  auto [a, b] = make_memory_pair();
+  FakeClock clock;
+  clock.set_auto_advance(true);  // this thread alone waits: a read with nothing to read times out at once
+  auto [a, b] = make_memory_pair(clock);
   write_str(*a, "hello");
   write_str(*b, "back");
   EXPECT_EQ(read_all(*b, 5), "hello");
   EXPECT_EQ(read_all(*a, 4), "back");
+  const auto t0 = clock.now();
   uint8_t buf[4];
   EXPECT_EQ(a->read(buf, sizeof buf, 10ms), 0u);
+  EXPECT_EQ(clock.now() - t0, 10ms);  // it waited its timeout, on the pair's clock
+}
+
+TEST(TransportMemory, AReadWaitsUntilThePairsClockReachesItsTimeout) {
+  FakeClock clock;
+  auto [a, b] = make_memory_pair(clock);
+  const auto t0 = clock.now();
+  auto reader = std::async(std::launch::async, [&a = *a, &clock] {
+    uint8_t buf[4];
+    const size_t n = a.read(buf, sizeof buf, 500ms);
+    return std::make_pair(n, clock.now());
+  });
+  clock.await_waiters(1);
+  clock.advance(499ms);
+  clock.await_waiters(1);  // not yet
+  clock.advance(1ms);
+  const auto [n, at] = reader.get();
+  EXPECT_EQ(n, 0u);
+  EXPECT_EQ(at, t0 + 500ms);
 }
 
 TEST(TransportMemory, FlushInputDiscardsUnreadBytes) {
-  auto [a, b] = make_memory_pair();
+  FakeClock clock;
+  clock.set_auto_advance(true);
+  auto [a, b] = make_memory_pair(clock);
   write_str(*a, "noise");
   b->flush_input();
   write_str(*a, "ok");
@@ -52,7 +80,9 @@ TEST(TransportMemory, FlushInputDiscardsUnreadBytes) {
 }
 
 TEST(TransportMemory, DisconnectMakesBothEndsThrowLinkLost) {
-  auto [a, b] = make_memory_pair();
+  FakeClock clock;
+  clock.set_auto_advance(true);
+  auto [a, b] = make_memory_pair(clock);
   b->disconnect();
   uint8_t buf[4];
   EXPECT_THROW(a->read(buf, sizeof buf, 10ms), LinkLost);
@@ -61,7 +91,8 @@ TEST(TransportMemory, DisconnectMakesBothEndsThrowLinkLost) {
 }
 
 TEST(TransportMemory, DisconnectWakesABlockedReader) {
-  auto [a, b] = make_memory_pair();
+  FakeClock clock;  // stands still: only the disconnect can end the read
+  auto [a, b] = make_memory_pair(clock);
   auto reader = std::async(std::launch::async, [&a = *a] {
     uint8_t buf[4];
     try {
@@ -71,9 +102,11 @@ TEST(TransportMemory, DisconnectWakesABlockedReader) {
     }
     return false;
   });
+  clock.await_waiters(1);  // the reader is blocked in its read
   b->disconnect();
-  ASSERT_EQ(reader.wait_for(10s), std::future_status::ready) << "reader still blocked";
+  // A reader the disconnect did not wake would stay blocked here (ctest's timeout reports it).
   EXPECT_TRUE(reader.get());
+  EXPECT_EQ(clock.now(), FakeClock::kStart);
 }
 
 // A pseudo-terminal: the test holds the master (the "device"), the transport opens the slave.
@@ -96,13 +129,17 @@ struct Pty {
   }
 };
 
+// What the transport wrote, as the device sees it: reads until `want` bytes came, or nothing
+// comes for 2 s (the pty's own real-time wait; it ends as soon as the bytes are there).
 std::string read_master(int fd, size_t want) {
   std::string out;
   char buf[64];
-  for (int tries = 0; out.size() < want && tries < 200; ++tries) {
+  while (out.size() < want) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 2000) <= 0) break;
     const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n > 0) out.append(buf, static_cast<size_t>(n));
-    else usleep(10000);
+    if (n <= 0) break;
+    out.append(buf, static_cast<size_t>(n));
   }
   return out;
 }
@@ -175,7 +212,9 @@ TEST(TransportSerial, MissingPortAndNonTtyNameThePath) {
 TEST(TransportSerial, CloseWakesABlockedRead) {
   Pty pty;
   auto port = SerialTransport::open(pty.slave);
+  std::promise<pid_t> reader_tid;
   auto reader = std::async(std::launch::async, [&] {
+    reader_tid.set_value(test::this_thread_id());
     uint8_t buf[4];
     try {
       port->read(buf, sizeof buf, 60000ms);
@@ -184,8 +223,14 @@ TEST(TransportSerial, CloseWakesABlockedRead) {
     }
     return false;
   });
-  std::this_thread::sleep_for(50ms);  // let the reader block (the test holds either way)
+  // The reader is blocked in the poll(2) of its read (glibc may use ppoll for it).
+#ifdef SYS_poll
+  test::wait_until_in_syscall(reader_tid.get_future().get(), {SYS_poll, SYS_ppoll});
+#else
+  test::wait_until_in_syscall(reader_tid.get_future().get(), {SYS_ppoll});
+#endif
   port->close();
+  // The pty transport's own wait is real time: a close that did not wake it is found here.
   ASSERT_EQ(reader.wait_for(10s), std::future_status::ready) << "reader still blocked";
   EXPECT_TRUE(reader.get());
 }

@@ -5,10 +5,12 @@
 
 #include <fstream>
 
+#include "base/fake_clock.h"
 #include "daemon/conversion_runner.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
+using namespace std::chrono_literals;
 using atelier::ConversionOutcome;
 using atelier::ConversionTask;
 using atelier::SubprocessRunner;
@@ -78,11 +80,14 @@ TEST(ConversionRunner, ACrashIsAFailedJobNamingTheInput) {
 
 TEST(ConversionRunner, AHungConverterIsKilledAtTheTimeout) {
   atelier::test::TempDir tmp;
-  SubprocessRunner runner(script(tmp.path(), "exec sleep 60"));
+  // The timeout is measured on the runner's clock: the converter reports progress once, the
+  // clock is moved past the limit (ten minutes, which nobody waits for), and it hangs.
+  atelier::FakeClock clock;
+  SubprocessRunner runner(script(tmp.path(), "echo 'progress 0.10' >&3; exec sleep 60"), 8ull << 30, clock);
   auto t = task(tmp.path());
-  t.timeout = std::chrono::seconds(1);
+  t.timeout = std::chrono::seconds(600);
   std::atomic<bool> cancel{false};
-  auto out = runner.run(t, nullptr, cancel);
+  auto out = runner.run(t, [&](double) { clock.advance(601s); }, cancel);
   EXPECT_EQ(out.status, ConversionOutcome::Status::timed_out);
   EXPECT_NE(out.message.find("job_timeout_s"), std::string::npos) << out.message;
 }
