@@ -18,11 +18,20 @@ void write_output(const fs::path& file, const char* data, size_t size) {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (out) out.write(data, static_cast<std::streamsize>(size));
     if (out) out.close();
-    if (!out) throw ConvertError(file.filename().string() + ": cannot write: " + std::strerror(errno));
+    if (!out) {
+      const int err = errno;
+      std::error_code ignored;
+      fs::remove(tmp, ignored);  // nothing half-written is left behind
+      throw ConvertError(file.filename().string() + ": cannot write: " + std::strerror(err));
+    }
   }
   std::error_code ec;
   fs::rename(tmp, file, ec);
-  if (ec) throw ConvertError(file.filename().string() + ": cannot write: " + ec.message());
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw ConvertError(file.filename().string() + ": cannot write: " + ec.message());
+  }
 }
 
 void write_output(const fs::path& file, const std::string& content) {

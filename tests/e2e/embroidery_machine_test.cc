@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/e2e/daemon_harness.h"
-#include "tests/unit/stitch_file_readers.h"
+#include "tests/support/stitch_file_readers.h"
 
 namespace fs = std::filesystem;
 using atelier::test::DaemonProcess;

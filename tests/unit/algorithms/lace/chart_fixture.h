@@ -2,7 +2,7 @@
 #pragma once
 
 #include "algorithms/lace/chart.h"
-#include "tests/unit/lace_test_charts.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier::lace::test {
 

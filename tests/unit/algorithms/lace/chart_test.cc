@@ -8,7 +8,7 @@
 #include "algorithms/lace/stitch_tree.h"
 #include "algorithms/lace/symbols.h"
 #include "tests/unit/algorithms/lace/chart_fixture.h"
-#include "tests/unit/lace_test_charts.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {

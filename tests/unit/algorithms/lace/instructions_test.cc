@@ -11,7 +11,7 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/instructions.h"
 #include "algorithms/lace/symbols.h"
-#include "tests/unit/lace_test_charts.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {

@@ -8,7 +8,7 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/preview.h"
 #include "algorithms/lace/symbols.h"
-#include "tests/unit/lace_test_charts.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier::lace {
 namespace {

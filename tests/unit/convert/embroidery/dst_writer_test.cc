@@ -10,7 +10,7 @@
 #include "algorithms/embroidery/stitch_plan.h"
 #include "convert/embroidery/dst_writer.h"
 #include "tests/unit/convert/embroidery/stitch_file_fixture.h"
-#include "tests/unit/stitch_file_readers.h"
+#include "tests/support/stitch_file_readers.h"
 
 namespace atelier::embroidery {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "convert/convert.h"
 #include "convert/common/param_table.h"
-#include "tests/unit/stitch_file_readers.h"
+#include "tests/support/stitch_file_readers.h"
 
 namespace atelier {
 namespace {

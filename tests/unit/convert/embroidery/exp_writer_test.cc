@@ -9,7 +9,7 @@
 #include "algorithms/embroidery/stitch_plan.h"
 #include "convert/embroidery/exp_writer.h"
 #include "tests/unit/convert/embroidery/stitch_file_fixture.h"
-#include "tests/unit/stitch_file_readers.h"
+#include "tests/support/stitch_file_readers.h"
 
 namespace atelier::embroidery {
 namespace {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "algorithms/embroidery/stitch_plan.h"
-#include "tests/unit/stitch_file_readers.h"
+#include "tests/support/stitch_file_readers.h"
 
 namespace atelier::embroidery::test {
 

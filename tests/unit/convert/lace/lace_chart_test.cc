@@ -13,8 +13,9 @@
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
+#include "convert/common/convert_error.h"
 #include "convert/lace/lace_chart.h"
-#include "tests/unit/lace_test_charts.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier {
 namespace {
@@ -163,16 +164,30 @@ TEST_F(LaceChartRender, PdfIsA4AndSplitsBigCharts) {
   EXPECT_EQ(count(many, "/Type /Page\n") + count(many, "/Type /Page "), pages);
 }
 
-TEST_F(LaceChartRender, WriteFailuresThrowWithoutThePath) {
+// The charts go through the atomic output writer: a failed write names the file (not the
+// folder it was bound for) and leaves neither a half-written chart nor its temporary file.
+TEST_F(LaceChartRender, WriteFailuresNameTheFileAndLeaveNothingBehind) {
   const auto bad = dir_ / "no" / "such" / "dir" / "chart.pdf";
   try {
     write_lace_chart_pdf(sampler(), 6, {}, bad);
     FAIL() << "no error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+  } catch (const ConvertError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find(bad.parent_path().string()), std::string::npos) << what;
+    EXPECT_EQ(what.rfind("chart.pdf: cannot write", 0), 0u) << what;
   }
-  EXPECT_THROW(write_lace_chart_svg(sampler(), 6, {}, dir_ / "no" / "chart.svg"), std::runtime_error);
-  EXPECT_THROW(write_lace_chart_svg(sampler(), 5, {}, dir_ / "chart.svg"), std::invalid_argument);
+  // The target name is taken by a folder: the rename fails, the folder is untouched.
+  for (const char* name : {"chart.svg", "chart.pdf"}) {
+    std::filesystem::create_directories(dir_ / name / "inside");
+    if (std::string(name) == "chart.svg")
+      EXPECT_THROW(write_lace_chart_svg(sampler(), 6, {}, dir_ / name), ConvertError);
+    else
+      EXPECT_THROW(write_lace_chart_pdf(sampler(), 6, {}, dir_ / name), ConvertError);
+    EXPECT_TRUE(std::filesystem::is_directory(dir_ / name / "inside")) << name;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / (std::string(name) + ".tmp"))) << name;
+  }
+  EXPECT_THROW(write_lace_chart_svg(sampler(), 5, {}, dir_ / "new.svg"), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "new.svg"));
 }
 
 }  // namespace

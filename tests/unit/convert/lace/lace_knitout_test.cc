@@ -14,7 +14,7 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
 #include "convert/lace/lace_knitout.h"
-#include "tests/unit/lace_test_charts.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier {
 namespace {

@@ -2,7 +2,7 @@
 // simulated clock, and the faults it implements (corrupt, silent, api, delay).
 #include <gtest/gtest.h>
 
-#include "tests/unit/knit_emu_rig.h"
+#include "tests/support/knit_emu_rig.h"
 
 namespace atelier::knit_emu::testing {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "tests/unit/laser_emu_rig.h"
+#include "tests/support/laser_emu_rig.h"
 
 namespace atelier::laser_emu {
 namespace {

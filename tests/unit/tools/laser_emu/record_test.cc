@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "tests/unit/laser_emu_rig.h"
+#include "tests/support/laser_emu_rig.h"
 
 namespace atelier::laser_emu {
 namespace {

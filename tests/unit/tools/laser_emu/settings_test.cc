@@ -2,7 +2,7 @@
 // soft limits, and values stored with GRBL's checks.
 #include <gtest/gtest.h>
 
-#include "tests/unit/laser_emu_rig.h"
+#include "tests/support/laser_emu_rig.h"
 
 namespace atelier::laser_emu {
 namespace {

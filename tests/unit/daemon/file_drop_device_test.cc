@@ -11,7 +11,7 @@
 #include "daemon/file_drop_device.h"
 #include "daemon/job_service.h"
 #include "tests/e2e/daemon_harness.h"
-#include "tests/unit/job_watch.h"
+#include "tests/support/job_watch.h"
 
 namespace fs = std::filesystem;
 using atelier::DeviceConfig;

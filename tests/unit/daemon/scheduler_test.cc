@@ -14,7 +14,7 @@
 #include "base/fake_clock.h"
 #include "daemon/scheduler.h"
 #include "tests/e2e/daemon_harness.h"
-#include "tests/unit/job_watch.h"
+#include "tests/support/job_watch.h"
 
 namespace fs = std::filesystem;
 using namespace atelier;

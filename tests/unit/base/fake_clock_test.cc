@@ -1,47 +1,19 @@
-// The clock seam (base/clock.h): the fake clock stands still until moved, wakes sleepers and
-// waiters exactly when their deadline is reached, and with auto-advance jumps to a lone
-// waiter's deadline; real_clock() is steady_clock.
+// The fake clock (base/fake_clock.h): it stands still until moved, wakes sleepers and waiters
+// exactly when their deadline is reached, and with auto-advance jumps to a lone waiter's deadline.
 #include <gtest/gtest.h>
 
-#include <condition_variable>
 #include <future>
-#include <mutex>
 #include <thread>
 
-#include "base/clock.h"
 #include "base/fake_clock.h"
+#include "tests/unit/base/waiter_fixture.h"
 
 namespace atelier {
 namespace {
 
 using namespace std::chrono_literals;
+using test::Waiter;
 using time_point = Clock::time_point;
-
-// One thread waiting on `clock` for `ready` (under `mu`), up to `deadline`.
-struct Waiter {
-  std::mutex mu;
-  std::condition_variable_any cv;
-  bool ready = false;
-
-  struct Outcome {
-    bool satisfied;
-    time_point at;  // the clock when the wait returned
-  };
-  std::future<Outcome> start(Clock& clock, time_point deadline) {
-    return std::async(std::launch::async, [this, &clock, deadline] {
-      std::unique_lock lock(mu);
-      const bool ok = clock.wait_until(cv, lock, deadline, [this] { return ready; });
-      return Outcome{ok, clock.now()};
-    });
-  }
-  void make_ready() {
-    {
-      std::lock_guard lock(mu);
-      ready = true;
-    }
-    cv.notify_all();
-  }
-};
 
 TEST(FakeClock, StandsStillUntilMovedAndNeverGoesBack) {
   FakeClock clock;
@@ -186,28 +158,6 @@ TEST(FakeClock, AutoAdvanceStillBlocksAWaitWithoutDeadlineUntilNotified) {
   const auto o = outcome.get();
   EXPECT_TRUE(o.satisfied);
   EXPECT_EQ(o.at, FakeClock::kStart);
-}
-
-// The real clock itself: the only test here that waits on real time (a few milliseconds).
-TEST(RealClock, IsSteadyClockAndItsWaitsEnd) {
-  Clock& clock = real_clock();
-  EXPECT_EQ(&clock, &real_clock());
-  const time_point before = std::chrono::steady_clock::now();
-  const time_point t = clock.now();
-  EXPECT_GE(t, before);
-  EXPECT_LE(t, std::chrono::steady_clock::now());
-  clock.sleep_for(2ms);
-  EXPECT_GE(clock.now(), t + 2ms);
-
-  Waiter w;
-  std::unique_lock lock(w.mu);
-  const time_point deadline = clock.now() + 2ms;
-  EXPECT_FALSE(clock.wait_until(w.cv, lock, deadline, [&] { return w.ready; }));
-  EXPECT_GE(clock.now(), deadline);
-  lock.unlock();
-  auto outcome = w.start(clock, time_point::max());  // no deadline: ends only by its notify
-  w.make_ready();
-  EXPECT_TRUE(outcome.get().satisfied);
 }
 
 }  // namespace

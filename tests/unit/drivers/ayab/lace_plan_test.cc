@@ -3,29 +3,17 @@
 // land on top; knit carriage: an empty needle casts on a new loop, a stack becomes one stitch
 // whose top is the loop that arrived last) and the knitted fabric must have exactly the
 // chart's stitches. Charts the carriage cannot do must come back as problems naming the row.
-// On the knitting-machine device: a lace job's passes reach the firmware model (a simulated
-// knitter, in simulated time) as planned, and a chart the carriage cannot do fails before the
-// port is opened.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <functional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/symbols.h"
-#include "convert/lace/lace_chart_json.h"
-#include "daemon/job_service.h"
-#include "daemon/knit_device.h"
 #include "drivers/ayab/lace_plan.h"
-#include "tests/e2e/daemon_harness.h"
-#include "tests/unit/job_watch.h"
-#include "tests/unit/lace_test_charts.h"
-#include "tests/unit/simulated_knitter.h"
-#include "tools/knit_emu/faults.h"
+#include "tests/support/lace_test_charts.h"
 
 namespace atelier::ayab {
 namespace {
@@ -264,152 +252,6 @@ TEST(AyabLacePlan, WiderThanTheBedNamesBothWidths) {
   const auto small = plan_lace(c, 10, 12, 1, kh270);
   EXPECT_TRUE(mentions(small.problems, "120 stitches", "112 needles"));
   EXPECT_TRUE(plan_lace(c, 10, 11, 1, kh270).plan);
-}
-
-// A ready lace job (chart.json in its output folder) and a knitting-machine device taking
-// knit and lace jobs, all on one FakeClock: the device's sessions knit against a simulated
-// knitter in simulated time.
-struct LaceJobOnDevice {
-  test::TempDir tmp;
-  SpoolLayout layout{tmp.path() / "spool"};
-  Store store{tmp.path() / "jobs.sqlite"};
-  FakeClock clock;
-  test::JobWatch watch{clock};
-  JobService jobs{store, layout, watch.listener()};
-  int64_t id = 0;
-
-  LaceJobOnDevice(const Chart& chart, int cast_on, int wide, int high, JobState state = JobState::ready) {
-    jobs.ensure_layout();
-    Job job;
-    job.id = store.reserve_id();
-    job.kind = "lace";
-    job.name = "lace.toml";
-    job.state = state;
-    job.output_dir = (tmp.path() / "done" / std::to_string(job.id)).string();
-    std::filesystem::create_directories(job.output_dir);
-    std::ofstream(job.output_dir + "/chart.json") << lace_chart_to_json({chart, cast_on, wide, high}).dump();
-    store.insert_job(job);
-    id = job.id;
-  }
-  // Runs the device on `machine` until it is done with the job (at most an hour of the clock);
-  // `resume_from` resumes an interrupted job from that chart row first; the job is canceled
-  // once `cancel_when` says so (asked each time the machine has knitted a row).
-  Job run(test::SimulatedKnitter& machine, int resume_from = 0, const std::function<bool()>& cancel_when = {}) {
-    DeviceConfig d;
-    d.name = "knitter";
-    d.driver = "ayab";
-    d.port = "/dev/ttyKNIT";
-    d.machine = "kh930";
-    d.kinds = {"knit", "lace"};
-    d.autostart = true;
-    KnitDevice device(
-        d, jobs, [&machine](const std::string&) { return machine.open(); },
-        [port = d.port]() -> std::optional<std::string> { return port; }, {}, clock);
-    bool canceled = false;
-    machine.on_row = [&] {
-      if (cancel_when && !canceled && cancel_when()) canceled = device.cancel(id);
-    };
-    if (resume_from > 0) device.resume(id, resume_from);
-    device.start_worker();
-    device.wake();
-    EXPECT_TRUE(watch.wait_left(id, JobState::running)) << "the device did not finish the job";
-    device.stop();
-    machine.on_row = nullptr;
-    return *store.get(id);
-  }
-};
-
-// Needle strings (working range, leftmost first) of the plan's passes from `from_pass` on: what
-// the simulated knitter records.
-std::vector<std::string> pass_lines(const KnitPlan& plan, size_t from_pass = 0) {
-  std::vector<std::string> out;
-  for (size_t p = from_pass; p < plan.passes.size(); ++p) {
-    std::string line;
-    for (int n = plan.start_needle; n <= plan.stop_needle; ++n) line.push_back(needle_selected(plan.passes[p], n) ? '1' : '0');
-    out.push_back(line);
-  }
-  return out;
-}
-
-TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens) {
-  // Two problems: the yarn-over before a k2tog (row 3), and a row that widens (row 5).
-  const Chart c{{knit(4), row({"k", "yo", "k2tog", "k"}), row({"yo", "k", "k", "k", "k"})}};
-  LaceJobOnDevice rig(c, 4, 2, 1);
-  test::SimulatedKnitter machine(rig.clock, 2);
-  const Job job = rig.run(machine);
-  EXPECT_EQ(job.state, JobState::failed);
-  EXPECT_EQ(job.reason.rfind("the lace carriage cannot knit this chart: row 3 (RS), stitch 3 (k2tog)", 0), 0u)
-      << job.reason;
-  EXPECT_NE(job.reason.find("; 1 more in report.json"), std::string::npos) << job.reason;
-  EXPECT_EQ(machine.opened(), 0);
-}
-
-TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {
-  const Chart c{{row({"k", "yo", "sk2p", "yo", "k"}), knit(5), row({"yo", "k", "ssk", "k", "k"}), knit(5)}};
-  LaceJobOnDevice rig(c, 5, 4, 2);
-  test::SimulatedKnitter emulator(rig.clock, 2);
-  const Job job = rig.run(emulator);
-  ASSERT_EQ(job.state, JobState::completed) << job.reason;
-  EXPECT_EQ(job.progress_done, 8);  // chart rows, repeats_high included
-  EXPECT_EQ(job.progress_total, 8);
-  EXPECT_EQ(emulator.opened(), 1);
-
-  const auto plan = plan_lace(c, 5, 4, 2, {});
-  ASSERT_TRUE(plan.plan);
-  EXPECT_EQ(emulator.recorded(), pass_lines(*plan.plan));
-}
-
-TEST(AyabLacePlanOnTheMachine, ResumeFromAChartRowStartsAtThatRowsFirstPass) {
-  // Rows with different numbers of lace passes, so rows and passes do not line up.
-  const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4), row({"k2tog", "yo", "k", "k"})}};
-  LaceJobOnDevice rig(c, 4, 3, 2, JobState::interrupted);
-  test::SimulatedKnitter emulator(rig.clock, 2);
-  const Job job = rig.run(emulator, 4);
-  ASSERT_EQ(job.state, JobState::completed) << job.reason;
-  EXPECT_EQ(job.progress_done, 6);
-  const auto plan = plan_lace(c, 4, 3, 2, {});
-  ASSERT_TRUE(plan.plan);
-  size_t first = 0;  // the first pass of chart row 4 (0-based 3)
-  while (plan.plan->pattern_row[first] < 3) ++first;
-  EXPECT_EQ(emulator.recorded(), pass_lines(*plan.plan, first));
-}
-
-TEST(AyabLacePlanOnTheMachine, ACanceledLaceJobStopsWhereAChartRowBegins) {
-  const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
-  const auto plan = plan_lace(c, 4, 3, 2, {});
-  ASSERT_TRUE(plan.plan);
-  size_t row1 = 0;  // passes of chart row 1: lace-carriage transfers, then the two knit rows
-  while (plan.plan->pattern_row[row1] == 0) ++row1;
-  ASSERT_GE(row1, 5u);
-  LaceJobOnDevice rig(c, 4, 3, 2);
-  test::SimulatedKnitter emulator(rig.clock, 150);
-  // Canceled the moment the first transfer pass is done, in the middle of chart row 1:
-  // stopping there would leave the stitches moved but unknitted (and a resume from row 1
-  // would move them again).
-  const Job job = rig.run(emulator, 0, [&] { return !emulator.recorded().empty(); });
-  EXPECT_EQ(job.state, JobState::canceled) << job.reason;
-  EXPECT_EQ(job.progress_done, 1);
-  std::vector<std::string> row_one = pass_lines(*plan.plan, 0);
-  row_one.resize(row1);
-  EXPECT_EQ(emulator.recorded(), row_one) << "all of chart row 1, nothing of row 2"
-      << " (row 1 has " << row1 << " passes)";
-}
-
-TEST(AyabLacePlanOnTheMachine, ALinkLostInTheMiddleOfAChartRowSaysSoWithTheResumeHint) {
-  // Unplugged after the second pass of chart row 1 (8 passes: transfers, then two knit rows).
-  const Chart c{{row({"yo", "k", "k", "ssk"}), knit(4)}};
-  LaceJobOnDevice rig(c, 4, 3, 2);
-  knit_emu::Faults faults;
-  ASSERT_EQ(knit_emu::apply_fault("drop-after-row=2:60000", faults), "");
-  test::SimulatedKnitter emulator(rig.clock, 5, faults);
-  const Job job = rig.run(emulator);
-  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
-  EXPECT_EQ(job.progress_done, 0);
-  // Resuming chart row 1 as planned would move the moved stitches again: the reason says so.
-  EXPECT_THAT(job.reason, ::testing::HasSubstr("chart row 1 stopped after "));
-  EXPECT_THAT(job.reason, ::testing::HasSubstr("of its 8 passes: its stitches may be moved but not knitted; put "
-                                               "them back as the cast-on left them"));
-  EXPECT_THAT(job.reason, ::testing::HasSubstr("--from-row 1"));
 }
 
 }  // namespace

@@ -16,7 +16,7 @@
 #include <thread>
 
 #include "inventory/stock_store.h"
-#include "tests/unit/thread_state.h"
+#include "tests/support/thread_state.h"
 
 namespace atelier {
 namespace {
