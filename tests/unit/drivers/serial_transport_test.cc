@@ -14,26 +14,15 @@
 
 #include "drivers/serial_transport.h"
 #include "tests/support/thread_state.h"
+#include "tests/unit/drivers/transport_fixture.h"
 
 namespace atelier {
 namespace {
 
 using namespace std::chrono_literals;
 
-std::string read_all(Transport& t, size_t want) {
-  std::string out;
-  uint8_t buf[64];
-  while (out.size() < want) {
-    const size_t n = t.read(buf, sizeof buf, 2000ms);
-    if (n == 0) break;
-    out.append(reinterpret_cast<char*>(buf), n);
-  }
-  return out;
-}
-
-void write_str(Transport& t, const std::string& s) {
-  t.write(reinterpret_cast<const uint8_t*>(s.data()), s.size());
-}
+using test::read_all;
+using test::write_str;
 
 // A pseudo-terminal: the test holds the master (the "device"), the transport opens the slave.
 struct Pty {
