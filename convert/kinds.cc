@@ -26,7 +26,7 @@ std::vector<KindInfo> make_kinds() {
                .convert = convert_knit,
                .machine_input = MachineInput::knit_pattern,
                .machine_file = kKnitPatternFile,
-               .drivers = {{"ayab", true}},
+               .drivers = {{kAyabDriver, true}},
                .companions = {kRelaxMaskSuffix}});
   k.push_back({.name = "cut",
                .input = KindInput::svg,
@@ -34,7 +34,7 @@ std::vector<KindInfo> make_kinds() {
                .convert = convert_cut,
                .machine_input = MachineInput::gcode,
                .machine_file = kCutGcodeFile,
-               .drivers = {{"grbl", true}}});
+               .drivers = {{kGrblDriver, true}}});
   k.push_back({.name = "parquetry",
                .input = KindInput::image,
                .validate = [](const toml::table& t, const std::string& s) { read_parquetry_params(t, s); },
@@ -42,7 +42,7 @@ std::vector<KindInfo> make_kinds() {
                .resolve_config_paths = resolve_parquetry_config_paths,
                .machine_input = MachineInput::gcode,
                .machine_file = kParquetryGcodeFile,
-               .drivers = {{"grbl", true}},
+               .drivers = {{kGrblDriver, true}},
                .batches = true,
                .uses_wood = true});
   k.push_back({.name = "embroidery",
@@ -53,7 +53,7 @@ std::vector<KindInfo> make_kinds() {
                .machine_input = MachineInput::stitch_files,
                .machine_file = kDesignStem,
                .formats = stitch_formats(),
-               .drivers = {{"file-drop", true}}});
+               .drivers = {{kFileDropDriver, true}}});
   k.push_back({.name = "lace",
                .input = KindInput::job_file,
                .validate = [](const toml::table& t, const std::string& s) { read_lace_params(t, s); },
@@ -61,7 +61,7 @@ std::vector<KindInfo> make_kinds() {
                .resolve_config_paths = resolve_lace_config_paths,
                .machine_input = MachineInput::lace_chart,
                .machine_file = kLaceChartFile,
-               .drivers = {{"ayab", false}}});
+               .drivers = {{kAyabDriver, false}}});
   k.push_back({.name = "sketch",
                .input = KindInput::image,
                .validate = [](const toml::table& t, const std::string& s) { read_sketch_params(t, s); },
@@ -69,7 +69,7 @@ std::vector<KindInfo> make_kinds() {
                .resolve_config_paths = resolve_sketch_config_paths,
                .machine_input = MachineInput::gcode,
                .machine_file = kSketchGcodeFile,
-               .drivers = {{"grbl", true}}});
+               .drivers = {{kGrblDriver, true}}});
   return k;
 }
 

@@ -36,10 +36,15 @@ enum class MachineInput {
   stitch_files,  // machine_file is a stem; the device adds ".<format>" (one of `formats`)
 };
 
+// The device drivers ([[device]] driver = "..."); the registry says which kinds each takes.
+inline constexpr const char* kAyabDriver = "ayab";          // knitting machines (AYAB v6)
+inline constexpr const char* kGrblDriver = "grbl";          // laser cutters (GRBL 1.1)
+inline constexpr const char* kFileDropDriver = "file-drop";  // stitch files into a folder
+
 // A device driver that can run the kind; `by_default` puts the kind in the driver's default
 // `kinds` list when a [[device]] gives none.
 struct DriverUse {
-  std::string_view driver;  // "ayab", "grbl", "file-drop"
+  std::string_view driver;  // kAyabDriver, kGrblDriver, kFileDropDriver
   bool by_default = true;
 };
 

@@ -13,14 +13,10 @@
 namespace atelier {
 namespace {
 
-constexpr const char* kKnitter = "ayab";
-constexpr const char* kLaser = "grbl";
-constexpr const char* kFileDrop = "file-drop";
-
 // Stitch-file formats a file-drop device can deliver (the formats its kinds write).
 std::vector<std::string> drop_formats() {
   std::vector<std::string> out;
-  for (const std::string& kind : kinds_for_driver(kFileDrop))
+  for (const std::string& kind : kinds_for_driver(kFileDropDriver))
     for (std::string_view f : find_kind(kind)->formats)
       if (std::find(out.begin(), out.end(), f) == out.end()) out.emplace_back(f);
   return out;
@@ -52,12 +48,12 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   DeviceConfig d;
   d.name = r.get_string("name", "");
   if (d.name.empty()) r.fail("name", "every [[device]] needs a name");
-  d.driver = r.get_choice("driver", "", {kKnitter, kLaser, kFileDrop});
+  d.driver = r.get_choice("driver", "", {kAyabDriver, kGrblDriver, kFileDropDriver});
   d.port = r.get_string("port", "");
   d.usb = r.get_string("usb", "");
-  const bool knitter = d.driver == kKnitter;
-  const bool laser = d.driver == kLaser;
-  const bool drop = d.driver == kFileDrop;
+  const bool knitter = d.driver == kAyabDriver;
+  const bool laser = d.driver == kGrblDriver;
+  const bool drop = d.driver == kFileDropDriver;
   d.machine = knitter ? r.get_choice("machine", "kh930", {"kh910", "kh930", "kh270"})
                       : r.get_string("machine", "");
   d.kinds = r.get_string_list("kinds", kinds_for_driver(d.driver, /*default_only=*/true));
@@ -156,7 +152,7 @@ Config from_table(const toml::table& root, const std::string& source) {
     const toml::table empty;
     c.laser_check_first = read_laser_params(t ? *t : empty, source).check_first;
     if (t)
-      for (const auto& kind : kinds_for_driver(kLaser)) c.kind_defaults[kind].insert_or_assign("laser", *t);
+      for (const auto& kind : kinds_for_driver(kGrblDriver)) c.kind_defaults[kind].insert_or_assign("laser", *t);
   }
   if (const toml::array* devices = top.get_array("device")) {
     size_t i = 0;

@@ -90,15 +90,15 @@ Daemon::Daemon(fs::path config_file, Config initial)
     auto opener = [](const std::string& port) -> std::unique_ptr<Transport> {
       return SerialTransport::open(port);
     };
-    if (d.driver == "grbl") {
+    if (d.driver == kGrblDriver) {
       LaserOptions options;
       options.check_first = c.laser_check_first;
       options.mode = d.streaming == "send-response" ? grbl::StreamMode::send_response
                                                     : grbl::StreamMode::character_counting;
       devices_.push_back(std::make_unique<LaserDevice>(d, *jobs_, opener, resolve, options));
-    } else if (d.driver == "file-drop") {
+    } else if (d.driver == kFileDropDriver) {
       devices_.push_back(std::make_unique<FileDropDevice>(d, *jobs_));
-    } else {  // "ayab"; config.cc accepts no other driver
+    } else {  // kAyabDriver; config.cc accepts no other driver
       devices_.push_back(std::make_unique<KnitDevice>(d, *jobs_, opener, resolve));
     }
   }
@@ -231,11 +231,8 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     const std::string path = args.at("path").get<std::string>();
     const std::string kind = args.at("kind").get<std::string>();
     if (!fs::path(path).is_absolute()) throw ControlError("submit needs an absolute path");
-    if (!is_known_kind(kind)) {
-      std::string kinds;
-      for (const auto& k : known_kinds()) kinds += (kinds.empty() ? "" : ", ") + k;
-      throw ControlError("unknown kind '" + kind + "'; this build converts: " + kinds);
-    }
+    if (!is_known_kind(kind))
+      throw ControlError("unknown kind '" + kind + "'; this build converts: " + known_kinds_text());
     toml::table overrides;
     for (const auto& s : args.value("set", nlohmann::json::array())) {
       try {

@@ -156,9 +156,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!atelier::is_known_kind(kind)) {
-    std::string list;
-    for (const auto& k : atelier::known_kinds()) list += (list.empty() ? "" : ", ") + k;
-    std::cerr << "error: unknown kind '" << kind << "' (known kinds: " << list << ")\n"
+    std::cerr << "error: unknown kind '" << kind << "' (known kinds: " << atelier::known_kinds_text() << ")\n"
               << "Run with --help for more information.\n";
     return 2;
   }
