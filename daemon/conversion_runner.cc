@@ -45,6 +45,7 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
                                    "--progress-fd",       "3",
                                    "--max-file-bytes",    std::to_string(task.limits.max_file_bytes),
                                    "--max-pixels",        std::to_string(task.limits.max_pixels)};
+  if (task.check_only) args.push_back("--check");
   for (const auto& s : task.sets) {
     args.push_back("--set");
     args.push_back(s);

@@ -36,6 +36,9 @@ struct ConversionTask {
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> together;
   ImageLimits limits;
   std::chrono::seconds timeout{600};
+  // Only parse and check the parameters (`atelier-convert --check`): no input is read, no
+  // output written. The daemon checks a submit's --set values this way.
+  bool check_only = false;
 };
 
 struct ConversionOutcome {

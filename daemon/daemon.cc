@@ -16,8 +16,9 @@
 #include "base/error.h"
 #include "convert/convert.h"
 #include "convert/kinds.h"
-#include "convert/common/param_table.h"
+#include "daemon/client_file.h"
 #include "daemon/job_json.h"
+#include "daemon/job_sets.h"
 #include "daemon/file_drop_device.h"
 #include "daemon/knit_device.h"
 #include "daemon/laser_device.h"
@@ -35,6 +36,11 @@ int64_t job_id_arg(const nlohmann::json& args) {
   if (!args.contains("id") || !args["id"].is_number_integer())
     throw ControlError("this request needs an integer job \"id\"");
   return args["id"].get<int64_t>();
+}
+
+// A client's own text quoted back in an error, cut so that an answer stays one short line.
+std::string shortened(const std::string& text) {
+  return text.size() <= 80 ? text : text.substr(0, 80) + "...";
 }
 
 }  // namespace
@@ -114,9 +120,8 @@ Daemon::Daemon(fs::path config_file, Config initial)
       [this] {
         for (const auto& d : devices_) d->wake();
       });
-  control_ = std::make_unique<ControlServer>(
-      c.socket_path, c.socket_group,
-      [this](const std::string& verb, const nlohmann::json& args) { return handle(verb, args); });
+  control_ = std::make_unique<ControlServer>(c.socket_path, c.socket_group,
+                                             [this](ControlRequest& request) { return handle(request); });
 }
 
 Daemon::~Daemon() {
@@ -194,7 +199,63 @@ Device& Daemon::device_of_job(int64_t id) {
   return *d;
 }
 
-nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& args) {
+void Daemon::check_sets(const std::string& kind, const std::vector<std::string>& sets) {
+  if (sets.empty()) return;
+  auto c = config();
+  ConversionTask task;
+  task.kind = kind;
+  task.input = "-";
+  task.output_dir = "-";
+  task.check_only = true;
+  task.sets = sets;
+  {
+    std::ostringstream defaults;
+    auto it = c->kind_defaults.find(kind);
+    if (it != c->kind_defaults.end()) defaults << it->second;
+    task.defaults_toml = defaults.str();
+  }
+  task.limits = c->limits;
+  task.timeout = std::chrono::seconds(10);
+  const std::atomic<bool> never{false};
+  ConversionOutcome outcome = runner_->run(task, nullptr, never);
+  if (outcome.status == ConversionOutcome::Status::ok) return;
+  if (outcome.status == ConversionOutcome::Status::timed_out)
+    throw ControlError("--set: checking the values took longer than " + std::to_string(task.timeout.count()) + " s");
+  throw ControlError(outcome.message);
+}
+
+nlohmann::json Daemon::submit(ControlRequest& request) {
+  const nlohmann::json& args = request.args;
+  const std::string path = args.at("path").get<std::string>();
+  const std::string kind = args.at("kind").get<std::string>();
+  if (!is_known_kind(kind))
+    throw ControlError("unknown kind '" + kind + "'; this build converts: " + known_kinds_text());
+  const std::string name = client_file_name(path);
+  std::vector<std::string> sets;
+  for (const auto& s : args.value("set", nlohmann::json::array())) {
+    std::string text = s.get<std::string>();
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) throw ControlError("--set " + shortened(text) + ": expected key=value");
+    sets.push_back(std::move(text));
+  }
+  // Read with the client's rights: the file it opened and passed (or, for a peer with our own
+  // rights, the path).
+  UniqueFd file = client_file(request, 0, path, "atelierctl submit FILE --kind " + kind);
+  // Refuse bad parameters now, while the user is at the terminal; TOML is parsed in the child.
+  check_sets(kind, sets);
+  int64_t id;
+  try {
+    id = jobs_->submit(file.get(), name, kind, sets_to_params(sets), config()->limits.max_file_bytes);
+  } catch (const std::runtime_error& e) {
+    throw ControlError(e.what());
+  }
+  scheduler_->enqueue(id);
+  return job_to_json(*store_->get(id));
+}
+
+nlohmann::json Daemon::handle(ControlRequest& request) {
+  const std::string& verb = request.verb;
+  const nlohmann::json& args = request.args;
   if (verb == "status") return status();
   if (verb == "list") {
     JobFilter filter;
@@ -227,39 +288,7 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     out["history"] = events_to_json(store_->history(id));
     return out;
   }
-  if (verb == "submit") {
-    const std::string path = args.at("path").get<std::string>();
-    const std::string kind = args.at("kind").get<std::string>();
-    if (!fs::path(path).is_absolute()) throw ControlError("submit needs an absolute path");
-    if (!is_known_kind(kind))
-      throw ControlError("unknown kind '" + kind + "'; this build converts: " + known_kinds_text());
-    toml::table overrides;
-    for (const auto& s : args.value("set", nlohmann::json::array())) {
-      try {
-        apply_set(overrides, s.get<std::string>());
-      } catch (const ParamError& e) {
-        throw ControlError(e.what());
-      }
-    }
-    // Refuse bad parameters now, while the user is at the terminal.
-    toml::table merged = config()->kind_defaults.at(kind);
-    merge_into(merged, overrides);
-    try {
-      validate_kind_params(kind, merged, "--set");
-    } catch (const ParamError& e) {
-      throw ControlError(e.what());
-    }
-    std::ostringstream text;
-    text << overrides;
-    int64_t id;
-    try {
-      id = jobs_->submit(path, kind, overrides.empty() ? "" : text.str());
-    } catch (const std::runtime_error& e) {
-      throw ControlError(e.what());
-    }
-    scheduler_->enqueue(id);
-    return job_to_json(*store_->get(id));
-  }
+  if (verb == "submit") return submit(request);
   if (verb == "cancel") {
     const int64_t id = job_id_arg(args);
     auto job = store_->get(id);
@@ -317,11 +346,12 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     return job_to_json(*store_->get(id));
   }
   if (verb == "devices") return devices_json();
-  if (verb == "wood") return wood(args);
+  if (verb == "wood") return wood(request);
   throw ControlError("unknown verb '" + verb + "'");
 }
 
-nlohmann::json Daemon::wood(const nlohmann::json& args) {
+nlohmann::json Daemon::wood(ControlRequest& request) {
+  const nlohmann::json& args = request.args;
   auto c = config();
   const KindInfo* wood_kind = nullptr;
   for (const KindInfo& k : kinds())
@@ -339,8 +369,18 @@ nlohmann::json Daemon::wood(const nlohmann::json& args) {
     if (auto job = store_->get(id); job && job->kind == wood_kind->name)
       busy += (busy.empty() ? "job " : ", ") + std::to_string(id);
   places.busy_hint = busy.empty() ? "" : busy + " being planned";
+  places.staging = c->state_dir() / ".wood-add";
+  WoodScans scans;
+  if (args.value("action", "") == "add") {
+    // Read with the client's rights, like submit: image first, then the mask.
+    const std::string usage = "atelierctl wood add IMAGE";
+    if (args.contains("image") && args["image"].is_string())
+      scans.image = client_file(request, 0, args["image"].get<std::string>(), usage);
+    if (args.contains("mask") && args["mask"].is_string())
+      scans.mask = client_file(request, 1, args["mask"].get<std::string>(), usage);
+  }
   try {
-    return wood_request(places, args);
+    return wood_request(places, args, std::move(scans));
   } catch (const WoodError& e) {
     throw ControlError(e.what());
   }

@@ -35,9 +35,14 @@ class Daemon {
   int run();
 
  private:
-  nlohmann::json handle(const std::string& verb, const nlohmann::json& args);
+  nlohmann::json handle(ControlRequest& request);
   nlohmann::json status();
-  nlohmann::json wood(const nlohmann::json& args);  // the `wood` verb (wood_service.h)
+  // `submit`: the file read from the client's descriptor (client_file.h), the --set values
+  // checked by an `atelier-convert --check` child and stored unparsed (job_sets.h).
+  nlohmann::json submit(ControlRequest& request);
+  // Refuses bad --set values with the checker child's reason (ControlError).
+  void check_sets(const std::string& kind, const std::vector<std::string>& sets);
+  nlohmann::json wood(ControlRequest& request);  // the `wood` verb (wood_service.h)
   nlohmann::json devices_json() const;
   Device* device_for(const Job& job) const;
   Device& device_of_job(int64_t id);

@@ -13,6 +13,7 @@
 #include "base/error.h"
 #include "convert/convert.h"
 #include "convert/kinds.h"
+#include "daemon/client_file.h"
 #include "daemon/log.h"
 
 namespace fs = std::filesystem;
@@ -151,28 +152,32 @@ std::optional<int64_t> JobService::claim(const fs::path& entry) {
   return id;
 }
 
-int64_t JobService::submit(const fs::path& file, const std::string& kind,
-                           const std::string& overrides) {
+int64_t JobService::submit(int fd, const std::string& name, const std::string& kind,
+                           const std::string& params, uint64_t max_bytes) {
   if (!is_known_kind(kind))
     throw BadInput("unknown kind '" + kind + "'; this build converts: " +
                              known_kinds_text());
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec))
-    throw BadInput(file.string() + ": not a readable regular file");
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
+    throw BadInput("'" + name + "' is not a file name");
   const int64_t id = store_.reserve_id();
   const fs::path work = layout_.work(id);
   fs::create_directories(work);
-  const std::string name = file.filename().string();
   // The copy is complete before claim.json exists: recover() drops a folder without one, so a
   // crash mid-copy leaves no half file behind as a job.
-  fs::copy_file(file, work / (".copy-" + name), fs::copy_options::overwrite_existing, ec);
-  if (!ec) fs::rename(work / (".copy-" + name), work / name, ec);
+  std::error_code ec;
+  try {
+    copy_client_file(fd, name, work / (".copy-" + name), max_bytes);
+  } catch (const std::exception&) {
+    fs::remove_all(work, ec);
+    throw;
+  }
+  fs::rename(work / (".copy-" + name), work / name, ec);
   if (ec) {
     fs::remove_all(work);
-    throw InternalError(file.string() + ": cannot copy: " + ec.message());
+    throw InternalError(name + ": cannot copy: " + ec.message());
   }
   write_durable(work / kClaimFile,
-                json_text({{"kind", kind}, {"name", name}, {"problem", ""}, {"params", overrides}}));
+                json_text({{"kind", kind}, {"name", name}, {"problem", ""}, {"params", params}}));
   fsync_dir(work);
   Job job;
   job.id = id;
@@ -180,7 +185,7 @@ int64_t JobService::submit(const fs::path& file, const std::string& kind,
   job.name = name;
   job.reason = "submitted with atelierctl";
   job.work_dir = work.string();
-  job.params = overrides;
+  job.params = params;
   insert(job);
   return id;
 }

@@ -43,11 +43,13 @@ class JobService {
   // unknown kind, file outside a kind folder). nullopt if the entry vanished first.
   std::optional<int64_t> claim(const std::filesystem::path& entry);
 
-  // `atelierctl submit`: copies `file` into a new job (the user's file stays). `overrides`
-  // is the TOML text of `--set` values. Throws std::runtime_error naming the file when it
-  // cannot be read or the kind is unknown.
-  int64_t submit(const std::filesystem::path& file, const std::string& kind,
-                 const std::string& overrides);
+  // `atelierctl submit`: copies the open file `fd` (opened by the client, with its rights:
+  // client_file.h) into a new job named `name` (a bare file name). `params` is the job's
+  // `--set` values as stored (job_sets.h). Refuses what is not a regular file and a file larger
+  // than `max_bytes`. Throws BadInput naming the file when it cannot be read, is refused or the
+  // kind is unknown; the copy is complete before claim.json exists.
+  int64_t submit(int fd, const std::string& name, const std::string& kind, const std::string& params,
+                 uint64_t max_bytes);
 
   // After a start: finishes half-done moves, re-queues interrupted conversions (partial
   // outputs removed), marks running jobs interrupted, adopts claimed files whose row never

@@ -2,7 +2,10 @@
 //
 //   atelier-convert KIND INPUT OUTPUT_DIR [--params FILE.toml] [--set key=value ...]
 //                   [--with INPUT2 OUTPUT_DIR2 ...] [--progress-fd N] [--max-file-bytes B]
-//                   [--max-pixels P]
+//                   [--max-pixels P] [--check]
+//
+// --check only parses and checks the parameters (--params, then --set), reads no input and
+// writes nothing; atelierd runs it to refuse a submit's bad --set values in a child process.
 //
 // --with (repeatable; parquetry only) plans another target together with INPUT on the same
 // wood, in one priority queue (paper 4.2): each target gets its own outputs in its own folder
@@ -137,6 +140,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-file-bytes", limits.max_file_bytes, "largest input file in bytes");
   app.add_option("--max-pixels", limits.max_pixels, "largest input image in pixels");
+  bool check_only = false;
+  app.add_flag("--check", check_only,
+               "only parse and check --params and --set (INPUT and OUTPUT_DIR are not read; give -)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -168,6 +174,16 @@ int main(int argc, char** argv) {
       toml::table layer = parse_toml_file(params_file);
       atelier::validate_kind_params(kind, layer, params_file);
       atelier::merge_into(params, layer);
+    }
+    if (check_only) {
+      // atelierd checks a submit's --set values here, in a child: TOML is parsed where a crash
+      // costs nothing but the check.
+      toml::table overrides;
+      for (const auto& s : sets) atelier::apply_set(overrides, s);
+      atelier::validate_kind_params(kind, overrides, "--set");
+      atelier::merge_into(params, overrides);
+      atelier::validate_kind_params(kind, params, "--set");
+      return 0;
     }
     fs::path in(input);
     const bool no_input = input == "-";
