@@ -287,8 +287,8 @@ bool ControlServer::read_client(Client& client) {
     for (; it != client.files.end() && it->first <= line_end; ++it) files.push_back(std::move(it->second));
     client.files.erase(client.files.begin(), it);
     if (line.empty()) continue;
+    client.last_request = clock_.now();  // a complete request: the idle time starts again
     serve_line(client, line, std::move(files));
-    client.last_request = clock_.now();
   }
   if (client.buffer.size() > kMaxRequestBytes) {
     send_farewell(client.fd.get(), "request longer than " + std::to_string(kMaxRequestBytes) + " bytes");

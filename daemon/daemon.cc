@@ -236,6 +236,11 @@ nlohmann::json Daemon::submit(ControlRequest& request) {
     std::string text = s.get<std::string>();
     const auto eq = text.find('=');
     if (eq == std::string::npos || eq == 0) throw ControlError("--set " + shortened(text) + ": expected key=value");
+    // Each value becomes one argument of the converter child, and Linux takes at most 128 KiB.
+    constexpr size_t kMaxSetBytes = 65536;
+    if (text.size() > kMaxSetBytes)
+      throw ControlError("--set " + shortened(text.substr(0, eq)) + ": " + std::to_string(text.size()) +
+                         " bytes is longer than the limit of " + std::to_string(kMaxSetBytes) + " bytes");
     sets.push_back(std::move(text));
   }
   // Read with the client's rights: the file it opened and passed (or, for a peer with our own

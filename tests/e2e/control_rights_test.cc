@@ -170,12 +170,19 @@ TEST(E2ERights, HostileSetValuesFailTheSubmitWithAReasonAndValidOnesReachTheConv
   OpenDaemon d;
   d.start();
   const std::string pic = atelier::test::test_image("pic1.png").string();
-  const std::string deep = "width=" + std::string(200000, '[') + std::string(200000, ']');
+  const std::string deep = "width=" + std::string(30000, '[') + std::string(30000, ']');
   json r = d.daemon.request("submit", {{"path", pic}, {"kind", "knit"}, {"set", {deep}}});
   EXPECT_FALSE(r.value("ok", true));
   EXPECT_NE(r.value("error", "").find("width"), std::string::npos) << r.dump().substr(0, 400);
   EXPECT_LT(r.value("error", "").size(), 5000u) << "the reason echoes the whole value";
   EXPECT_TRUE(d.daemon.request("status").value("ok", false));
+  // A value too long to be one argument of the converter is refused before it is tried.
+  const std::string huge = "width=" + std::string(200000, '[');
+  r = d.daemon.request("submit", {{"path", pic}, {"kind", "knit"}, {"set", {huge}}});
+  EXPECT_NE(r.value("error", "").find("--set width: 200006 bytes is longer than the limit of 65536 bytes"),
+            std::string::npos)
+      << r.dump().substr(0, 400);
+  EXPECT_TRUE(d.daemon.jobs().empty());
 
   r = d.daemon.request("submit", {{"path", pic}, {"kind", "knit"}, {"set", {"width=30", "dither=atkinson"}}});
   ASSERT_TRUE(r.value("ok", false)) << r;
