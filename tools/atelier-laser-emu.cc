@@ -14,7 +14,8 @@
 // beam off, motion, planner and buffers gone, Alarm if homing is enabled), recorded as a
 // "hangup" event; the banner goes out when a host next opens the port (tools/emu/pty_link.h).
 // --record FILE: JSON (tools/laser_emu/record.h), written atomically (temp file + rename) at
-// exit and about every 0.5 s while it changes. --render PNG: what was burned, written with the
+// exit and about every 0.5 s while it changes (on a thread of its own, so writing never
+// delays the controller). --render PNG: what was burned, written with the
 // record: white work area at --px-per-mm, machine (X, Y) at pixel (X*ppm, (H-Y)*ppm).
 #include <poll.h>
 #include <signal.h>
@@ -29,6 +30,10 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <condition_variable>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tools/emu/pty_link.h"
@@ -71,6 +76,59 @@ void save(const le::Record& record, const std::string& record_path, const std::s
       std::cerr << "atelier-laser-emu: " << render_path << ": cannot write the render\n";
   }
 }
+
+// Writes snapshots of the record on its own thread, so a slow write (the render is a PNG of
+// the whole bed) never holds up the controller - above all not its answer to a hang-up. The
+// newest snapshot wins; finish() writes the last one and joins.
+class RecordWriter {
+ public:
+  RecordWriter(std::string record_path, std::string render_path, double ppm)
+      : record_path_(std::move(record_path)), render_path_(std::move(render_path)), ppm_(ppm),
+        thread_([this] { run(); }) {}
+  ~RecordWriter() { finish(std::nullopt); }
+
+  void submit(le::Record r) {
+    {
+      std::lock_guard lock(mu_);
+      next_ = std::move(r);
+    }
+    wake_.notify_one();
+  }
+  // Stops the thread, then writes `last` (if any) on this one.
+  void finish(std::optional<le::Record> last) {
+    if (thread_.joinable()) {
+      {
+        std::lock_guard lock(mu_);
+        stop_ = true;
+      }
+      wake_.notify_one();
+      thread_.join();
+    }
+    if (last) save(*last, record_path_, render_path_, ppm_);
+  }
+
+ private:
+  void run() {
+    std::unique_lock lock(mu_);
+    for (;;) {
+      wake_.wait(lock, [&] { return stop_ || next_; });
+      if (stop_) return;
+      le::Record r = std::move(*next_);
+      next_.reset();
+      lock.unlock();
+      save(r, record_path_, render_path_, ppm_);
+      lock.lock();
+    }
+  }
+
+  const std::string record_path_, render_path_;
+  const double ppm_;
+  std::mutex mu_;
+  std::condition_variable wake_;
+  std::optional<le::Record> next_;
+  bool stop_ = false;
+  std::thread thread_;
+};
 
 }  // namespace
 
@@ -159,6 +217,7 @@ int main(int argc, char** argv) {
   auto ctl = power_on(0);
   std::cout << "atelier-laser-emu: GRBL 1.1h on " << link->slave_name() << " linked at " << link_path << std::endl;
 
+  RecordWriter writer(record_path, render_path, ppm);
   std::string pending;  // output the pty has not accepted yet
   long lines_so_far = 0;
   int64_t replug_at = -1;
@@ -240,7 +299,7 @@ int main(int argc, char** argv) {
         (!record_path.empty() || !render_path.empty())) {
       saved_version = record.version;
       last_save = now;
-      save(ctl ? ctl->snapshot() : record, record_path, render_path, ppm);
+      writer.submit(ctl ? ctl->snapshot() : record);
     }
 
     // Sleep until the model's next event (sub-millisecond: ppoll), a byte from the host or its
@@ -275,7 +334,7 @@ int main(int argc, char** argv) {
     }
   }
   if (ctl) ctl->advance_to(clock_us());
-  save(ctl ? ctl->snapshot() : record, record_path, render_path, ppm);
+  writer.finish(ctl ? ctl->snapshot() : record);
   link.reset();  // removes the symlink
   return 0;
 }

@@ -2,6 +2,7 @@
 // emulator's record of what the beam did is compared with what the SVG asked for.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <fstream>
 #include <iostream>
@@ -247,6 +248,11 @@ TEST(E2ELaser, KillingTheDaemonMidJobTurnsTheBeamOffWithin50Milliseconds) {
     return false;
   }, std::chrono::seconds(30))) << rig.job("line.svg").dump() << rig.daemon->log();
 
+  // The box is shared: give the processes under test priority (where allowed), so what is
+  // measured is the daemon's death and the emulator's answer to it, not other load.
+  for (const pid_t pid : {rig.daemon->pid(), rig.emulator->pid()})
+    for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task"))
+      ::setpriority(PRIO_PROCESS, static_cast<id_t>(std::stoi(task.path().filename().string())), -10);
   const double killed = now_s();
   rig.daemon->stop(SIGKILL);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // what the beam does next is recorded
@@ -259,7 +265,7 @@ TEST(E2ELaser, KillingTheDaemonMidJobTurnsTheBeamOffWithin50Milliseconds) {
     if (e["event"] == "hangup") hangup = e["t"].get<double>();
   ASSERT_GT(hangup, 0) << "the emulator never saw the port close: " << rec["events"].dump();
   EXPECT_GE(hangup, killed - 0.001);
-  EXPECT_GT(last_burn, killed - 1.0) << "the beam was not burning when the daemon was killed";
+  EXPECT_GE(last_burn, killed - 0.001) << "the beam was not burning when the daemon was killed";
   std::cout << "beam off " << (last_burn - killed) * 1000 << " ms after kill -9 (hangup seen after "
             << (hangup - killed) * 1000 << " ms)\n";
   EXPECT_LT(last_burn - killed, 0.050);
