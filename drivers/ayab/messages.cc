@@ -57,7 +57,7 @@ std::string state_name(FsmState s) {
     case FsmState::wait_for_machine: return "wait-for-machine";
     case FsmState::init: return "init";
     case FsmState::ready: return "ready";
-    case FsmState::knit: return "knit";
+    case FsmState::knit: return "knitting";
     case FsmState::test: return "test";
     case FsmState::error: return "error";
   }

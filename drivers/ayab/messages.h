@@ -37,7 +37,7 @@ std::string machine_name(MachineType m);
 std::string machine_display_name(MachineType m);
 
 enum class FsmState : uint8_t { wait_for_machine = 0, init = 1, ready = 2, knit = 3, test = 4, error = 5 };
-std::string state_name(FsmState s);  // "wait-for-machine", "init", "ready", "knit", "test", "error", "state N"
+std::string state_name(FsmState s);  // "wait-for-machine", "init", "ready", "knitting", "test", "error", "state N"
 enum class Carriage : uint8_t { knit = 0, lace = 1, garter = 2, none = 0xFF };
 enum class Direction : uint8_t { left = 0, right = 1, unknown = 0xFF };
 
