@@ -61,6 +61,8 @@ JobFileKind probe_job_kind(const fs::path& exe, const fs::path& file, const std:
     dup2(err_pipe[1], 2);
     struct rlimit lim = {limits.memory_bytes, limits.memory_bytes};
     setrlimit(RLIMIT_AS, &lim);
+    struct rlimit cpu = {static_cast<rlim_t>(limits.cpu_seconds), static_cast<rlim_t>(limits.cpu_seconds + 1)};
+    setrlimit(RLIMIT_CPU, &cpu);
     execv(argv[0], argv);
     const char msg[] = "cannot run atelier-convert\n";
     ssize_t ignored = write(2, msg, sizeof msg - 1);
@@ -105,6 +107,9 @@ JobFileKind probe_job_kind(const fs::path& exe, const fs::path& file, const std:
     return {"", shown_name + ": reading the job file took longer than " +
                     std::to_string(limits.timeout.count() / 1000.0).substr(0, 4) +
                     " s; is it a TOML job file?"};
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU)
+    return {"", shown_name + ": reading the job file used more than " + std::to_string(limits.cpu_seconds) +
+                    " s of CPU; is it a TOML job file?"};
   if (WIFSIGNALED(status))
     return {"", shown_name + ": the TOML reader stopped with signal " + std::to_string(WTERMSIG(status)) +
                     " while reading the job file (out of memory, or input that crashes it); fix the file"};

@@ -3,8 +3,10 @@
 // inside atelierd: a crash, a hang or a runaway allocation of the child fails that one job,
 // with a reason naming the file (and never quoting it).
 //
-// Limits: the child gets RLIMIT_AS = `memory_bytes` and is SIGKILLed after `timeout`
-// (wall time, steady clock: the child is a real process).
+// Limits: the child gets RLIMIT_AS = `memory_bytes` and RLIMIT_CPU = `cpu_seconds` (a parser
+// caught in a loop; CPU time, so a loaded or niced box does not fail good files), and is
+// SIGKILLed after `timeout` of wall time (steady clock) whatever it does. Reading a job
+// file takes about 0.2 s; the pick-up loop waits for it.
 // Throws std::system_error when the child cannot be started for now (EMFILE, EAGAIN, ENOMEM:
 // the caller retries the pick-up later).
 // Threading: blocks the calling thread for at most `timeout`; any number may run at once.
@@ -21,7 +23,8 @@
 namespace atelier {
 
 struct JobKindProbeLimits {
-  std::chrono::milliseconds timeout{10000};
+  std::chrono::milliseconds timeout{60000};
+  int cpu_seconds = 10;
   uint64_t memory_bytes = 512ull << 20;  // a job file is small: 512 MB is plenty
 };
 

@@ -16,8 +16,13 @@ void Pickup::scan() {
 }
 
 void Pickup::step() {
-  for (const auto& entry : folder_.collect()) claim(entry);
   const auto now = clock_.now();
+  for (const auto& entry : folder_.collect()) {
+    // An entry waiting for its retry is reported again when a failed claim moved it back
+    // into incoming/: it keeps its turn, or a lasting EMFILE would spin the loop.
+    auto waiting = retries_.find(entry);
+    if (waiting == retries_.end() || waiting->second.due <= now) claim(entry);
+  }
   std::vector<fs::path> due;
   for (const auto& [path, retry] : retries_)
     if (retry.due <= now) due.push_back(path);

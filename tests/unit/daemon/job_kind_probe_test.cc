@@ -60,6 +60,14 @@ TEST(JobKindProbe, ACrashOrAHangOfTheChildFailsTheJobFileNamingIt) {
   EXPECT_EQ(hung.problem.rfind("job.toml: ", 0), 0u) << hung.problem;
   EXPECT_NE(hung.problem.find("took longer"), std::string::npos) << hung.problem;
 
+  // A parser caught in a loop: stopped by its CPU limit (CPU time, not wall time, so a busy
+  // box does not fail good job files).
+  JobKindProbeLimits cpu;
+  cpu.cpu_seconds = 1;
+  auto looping = probe_job_kind(script(tmp, "while :; do :; done"), tmp.path() / "job.toml", "job.toml", cpu);
+  EXPECT_EQ(looping.problem.rfind("job.toml: ", 0), 0u) << looping.problem;
+  EXPECT_NE(looping.problem.find("CPU"), std::string::npos) << looping.problem;
+
   // Whatever else the child writes is not passed on.
   auto chatty = probe_job_kind(script(tmp, "echo 'root:x:0:0' >&2; exit 1"), tmp.path() / "job.toml", "job.toml");
   EXPECT_EQ(chatty.problem.find("root"), std::string::npos) << chatty.problem;
