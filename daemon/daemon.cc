@@ -139,23 +139,6 @@ std::shared_ptr<const Config> Daemon::config() const {
   return config_;
 }
 
-void Daemon::claim(const fs::path& entry) {
-  try {
-    if (auto id = jobs_->claim(entry)) {
-      auto job = store_->get(*id);
-      if (job && job->state == JobState::queued) {
-        log::info("job " + std::to_string(*id) + ": picked up " + entry.string());
-        scheduler_->enqueue(*id);
-      } else if (job) {
-        log::warning("job " + std::to_string(*id) + ": " + job->reason);
-      }
-    }
-  } catch (const std::exception& e) {
-    // The file stays where it is (or in work/, adopted at the next start): nothing is lost.
-    log::error(entry.string() + ": cannot pick up: " + e.what());
-  }
-}
-
 nlohmann::json Daemon::status() {
   nlohmann::json queue = nlohmann::json::object();
   for (const auto& [state, n] : store_->counts()) queue[state_name(state)] = n;
@@ -423,6 +406,7 @@ int Daemon::run() {
   const auto cfg = config();
   // Watch before scanning, so nothing dropped in between is missed.
   hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
+  pickup_ = std::make_unique<Pickup>(*hot_folder_, *jobs_, [this](int64_t id) { scheduler_->enqueue(id); });
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
   scheduler_->start(cfg->workers);
   for (auto& d : devices_) static_cast<DeviceWorker&>(*d).start_worker();
@@ -437,7 +421,7 @@ int Daemon::run() {
       usb_monitor_.reset();
     }
   }
-  for (const auto& entry : hot_folder_->scan()) claim(entry);
+  pickup_->scan();
   control_->start();
 
   uint64_t watchdog_usec = 0;
@@ -457,6 +441,8 @@ int Daemon::run() {
     if (hot_folder_->fd() >= 0) fds.push_back({hot_folder_->fd(), POLLIN, 0});
     auto timeout = hot_folder_->fd() >= 0 ? tick : std::min<std::chrono::milliseconds>(
                                                        tick, hot_folder_->poll_interval());
+    if (auto retry = pickup_->next_retry_in())  // a pick-up waiting to be tried again
+      timeout = std::min(timeout, std::chrono::ceil<std::chrono::milliseconds>(*retry));
     if (::poll(fds.data(), fds.size(), static_cast<int>(timeout.count())) < 0 && errno != EINTR) {
       log::error(std::string("poll: ") + strerror(errno));
       break;
@@ -474,7 +460,7 @@ int Daemon::run() {
       }
     }
     if (!running) break;
-    for (const auto& entry : hot_folder_->collect()) claim(entry);
+    pickup_->step();
     if (clock::now() >= next_tick) {
       next_tick = clock::now() + tick;
       if (watchdog) sd_notify(0, "WATCHDOG=1");
@@ -483,6 +469,7 @@ int Daemon::run() {
   }
   sd_notify(0, "STOPPING=1");
   log::info("stopping: no new jobs; conversions in progress are re-queued");
+  pickup_.reset();
   hot_folder_.reset();
   if (usb_monitor_) usb_monitor_->stop();
   scheduler_->stop();

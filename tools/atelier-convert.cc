@@ -26,6 +26,9 @@
 //   atelier-convert pencil-profile --reference GRADE OUT.toml [--scan-png SCAN.png]
 //       learn a pencil profile from a scan of pencil lines running vertically on white paper, or
 //       from the modelled reference scan of a shipped grade (tools/make-pencil-profiles)
+//   atelier-convert --job-kind FILE
+//       prints the kind a job file names (the daemon asks this in a child: untrusted TOML is
+//       never parsed inside atelierd; convert/job_file_kind.h)
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -40,6 +43,7 @@
 #include "convert/convert.h"
 #include "convert/kinds.h"
 #include "convert/common/param_table.h"
+#include "convert/job_file_kind.h"
 #include "tools/convert_commands.h"
 
 namespace fs = std::filesystem;
@@ -111,6 +115,15 @@ int main(int argc, char** argv) {
   // Not job kinds: commands with their own options (and --help).
   if (argc >= 2 && std::string(argv[1]) == "line") return atelier::convert_tool::run_line(argc - 1, argv + 1);
   if (argc >= 2 && std::string(argv[1]) == "pencil-profile") return atelier::convert_tool::run_pencil_profile(argc - 1, argv + 1);
+  if (argc == 3 && std::string(argv[1]) == "--job-kind") {
+    const auto found = atelier::read_job_file_kind(argv[2], fs::path(argv[2]).filename().string());
+    if (!found.problem.empty()) {
+      std::cerr << "error: " << found.problem << "\n";
+      return 1;
+    }
+    std::cout << found.kind << "\n";
+    return 0;
+  }
 
   CLI::App app{"atelier-convert: convert one input file as an atelier job would.\n"
                "Also: `atelier-convert line - OUTPUT_DIR --set from=X,Y --set to=X,Y --set pencil=6B` (one\n"
