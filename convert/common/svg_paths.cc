@@ -183,8 +183,8 @@ class Collector {
     add(Segment::cubic, {Point{x1, y1}, Point{x2, y2}, Point{x, y}});
     at_ = Point{x, y};
   }
-  // SVG 1.1 F.6: radii are absolute values, a zero radius is a line, an arc to its own start
-  // is nothing; then endpoint to centre form and cubics, as SVG++ would, once every number
+  // SVG 1.1 F.6: radii are absolute values, a zero radius is a line (and so is a small arc
+  // of radii a billion times its chord), an arc to its own start is nothing; then endpoint to centre form and cubics, as SVG++ would, once every number
   // that reaches the conversion (and its cast) is known to be finite.
   void path_elliptical_arc_to(double rx, double ry, double rotation_deg, bool large_arc,
                               bool sweep, double x, double y, tag::coordinate::absolute) {
@@ -198,7 +198,12 @@ class Collector {
     if (to.x == at_.x && to.y == at_.y) return;
     rx = std::fabs(rx);
     ry = std::fabs(ry);
-    if (rx == 0 || ry == 0) {
+    // A small arc whose radii dwarf its chord bows out by at most chord^2 * rx / (8 ry^2)
+    // (ry the smaller radius): below 1e-9 of the chord it is the chord, and computing its
+    // centre (1e300 away, say) would only lose every digit of the end points.
+    const double r_min = std::min(rx, ry), r_max = std::max(rx, ry);
+    const double chord = std::hypot(x - at_.x, y - at_.y);
+    if (rx == 0 || ry == 0 || (!large_arc && r_min / r_max * r_min > 1e9 * chord)) {
       path_line_to(x, y, tag::coordinate::absolute());
       return;
     }

@@ -33,7 +33,8 @@ inline std::string many_paths(size_t n) {
 }
 
 // Circles far larger than any bed but within the coordinate limit, at a fine tolerance:
-X
+// at 0.1 um each flattens to about 250000 points, `n` of them to n times that (the effect
+// of scale-bomb.svg).
 inline std::string point_bomb(size_t n) {
   std::string s =
       R"(<svg xmlns="http://www.w3.org/2000/svg" width="999000mm" height="999000mm" viewBox="0 0 999000 999000">)";
