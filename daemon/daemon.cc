@@ -79,7 +79,8 @@ Daemon::Daemon(fs::path config_file, Config initial)
   // Parquetry's wood library and stock of used wood (Config::state_dir()).
   fs::create_directories(c.state_dir() / "wood");
   fs::create_directories(c.state_dir() / "wood-stock");
-  runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
+  runner_ = std::make_unique<SubprocessRunner>(find_convert_executable(),
+                                               static_cast<uint64_t>(c.job_memory_mb) << 20);
   scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
   for (const DeviceConfig& d : c.devices) {
     DeviceWorker::PortResolver resolve;

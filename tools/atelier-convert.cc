@@ -42,6 +42,7 @@
 
 #include "convert/convert.h"
 #include "convert/kinds.h"
+#include "convert/common/memory_budget.h"
 #include "convert/common/param_table.h"
 #include "convert/job_file_kind.h"
 #include "tools/convert_commands.h"
@@ -156,6 +157,10 @@ int main(int argc, char** argv) {
   bool check_only = false;
   app.add_flag("--check", check_only,
                "only parse and check --params and --set (INPUT and OUTPUT_DIR are not read; give -)");
+  uint64_t memory_mb = 0;
+  app.add_option("--memory-mb", memory_mb,
+                 "memory budget in MB (address-space limit; 0: none); running out fails with "
+                 "\"INPUT: needs more than N MB (limits.job_memory_mb)\"");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -180,7 +185,9 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  const std::string input_name = fs::path(input).filename().string();
   try {
+    if (memory_mb > 0) atelier::apply_memory_budget(memory_mb, input_name);
     // Each layer is checked on its own first, so an error names its file and line.
     toml::table params;
     if (!params_file.empty()) {
@@ -245,14 +252,18 @@ int main(int argc, char** argv) {
       // Each target's folder holds its own input, like a job's done/<id>/ folder.
       copy_input(extra.input, extra.output_dir, result.outputs);
     }
-  } catch (const ConvertError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  } catch (const ParamError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << input << ": " << e.what() << "\n";
+    if (atelier::is_out_of_memory(e)) {
+      // An allocation beyond the budget: say so, not "std::bad_alloc".
+      std::cerr << "error: "
+                << (memory_mb > 0 ? atelier::memory_exceeded_reason(input_name, memory_mb)
+                                  : input_name + ": out of memory (" + e.what() + ")")
+                << "\n";
+    } else if (dynamic_cast<const ConvertError*>(&e) || dynamic_cast<const ParamError*>(&e)) {
+      std::cerr << "error: " << e.what() << "\n";
+    } else {
+      std::cerr << "error: " << input << ": " << e.what() << "\n";
+    }
     return 1;
   }
   return 0;

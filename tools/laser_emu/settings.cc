@@ -73,8 +73,9 @@ int Settings::store(double param, double value) {
   for (const auto& e : kEntries)
     if (e.id == id) known = true, fmt = e.fmt;
   if (!known) return kInvalidStatement;
-  // Integer settings keep the truncated value (GRBL stores them in a uint8).
-  const double v = fmt == Fmt::integer ? std::trunc(value) : value;
+  // Integer settings keep the truncated value in a uint8, as GRBL does (300 is stored as 44):
+  // never a value an int cast of it could overflow on.
+  const double v = fmt == Fmt::integer ? std::fmod(std::trunc(value), 256.0) : value;
   switch (id) {
     case 0:
       if (v < 3) return kStepPulseMin;
