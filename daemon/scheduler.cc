@@ -202,6 +202,7 @@ void Scheduler::convert_one(int64_t id) {
     }
   }
   task.limits = config->limits;
+  task.confine = config->confine_dirs();
   task.timeout = std::chrono::seconds(config->job_timeout_s) * static_cast<int64_t>(batch.size());
 
   int last_percent = -1;

@@ -1,0 +1,65 @@
+// Runs the built atelier-convert program in a test's own temporary folder: exit code and
+// stderr, as the daemon and users see them.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace atelier::test {
+
+class ConvertToolFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(std::filesystem::exists(tool_path())) << tool_path() << " is not built";
+    dir_ = std::filesystem::temp_directory_path() /
+           ("atelier-convert-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  static std::filesystem::path tool_path() {
+    return std::filesystem::path(ATELIER_BINARY_DIR) / "bin" / "atelier-convert";
+  }
+  static std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  static void write(const std::filesystem::path& p, const std::string& text) {
+    std::filesystem::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << text;
+  }
+  // Single-quoted for the shell (names may hold any byte but NUL).
+  static std::string q(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+  }
+  static std::string q(const std::filesystem::path& p) { return q(p.string()); }
+
+  // Runs the tool with `args` (already quoted); returns the exit code, stderr in err().
+  int tool(const std::string& args) {
+    const std::string cmd = q(tool_path()) + " " + args + " >/dev/null 2>" + q(dir_ / "stderr.txt");
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  // stderr of the last run without the "error: " prefix and the final newline.
+  std::string err() {
+    std::string e = slurp(dir_ / "stderr.txt");
+    if (e.rfind("error: ", 0) == 0) e.erase(0, 7);
+    while (!e.empty() && e.back() == '\n') e.pop_back();
+    return e;
+  }
+
+  std::filesystem::path dir_;
+};
+
+}  // namespace atelier::test
