@@ -103,7 +103,7 @@ std::string redact_quoted(const std::string& message, std::string_view content) 
 std::string display_path(const std::filesystem::path& path, std::size_t max_bytes) {
   const std::string& s = path.native();
   if (s.size() <= max_bytes) return safe_text(s);
-  return ".../" + display_value(path.filename().native(), max_bytes);
+  return ".../" + display_value(path.filename().native());
 }
 
 std::string display_name(const std::filesystem::path& path, std::size_t max_bytes) {

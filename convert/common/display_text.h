@@ -21,7 +21,8 @@ std::string safe_text(std::string_view bytes);
 std::string display_value(std::string_view value, std::size_t max_bytes = 80);
 
 // A path for a message: safe_text of the whole path when it is at most `max_bytes` long,
-// otherwise ".../" + the file name (itself cut by display_value), so the name is never lost.
+// otherwise ".../" + the file name (itself cut by display_value to 80 bytes), so the name is
+// never lost and the whole stays short.
 std::string display_path(const std::filesystem::path& path, std::size_t max_bytes = 120);
 
 // `message` with every quoted part ('...' or "...") that occurs in `content` replaced by

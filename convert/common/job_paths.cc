@@ -76,7 +76,7 @@ void PathAccess::fail(const fs::path& path, const std::string& problem) const {
 }
 
 UniqueFd PathAccess::open(const fs::path& given, int flags) const {
-  const fs::path path = resolve(given);
+  const fs::path path = given.lexically_normal();
   if (path.empty()) fail(given, "empty path");
   flags |= O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK;
   int fd = -1;

@@ -63,7 +63,9 @@ class PathAccess {
   }
   const std::string& key() const { return key_; }
   const std::string& source() const { return source_; }
-  // `path` taken against base() when relative (lexically normal).
+  // A parameter's value taken against the base when relative (lexically normal). The methods
+  // below take paths as they are (absolute, or relative to the working directory): a caller
+  // with a value as the job gave it resolves it first.
   std::filesystem::path resolve(const std::filesystem::path& path) const;
 
   // Opens a regular file for reading (O_RDONLY, O_CLOEXEC; a FIFO or device is refused

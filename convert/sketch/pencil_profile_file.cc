@@ -294,10 +294,10 @@ pencil::PencilProfile shipped_pencil(const std::string& name) {
 
 pencil::PencilProfile resolve_pencil(const std::string& value, const std::filesystem::path& base_dir,
                                      const std::string& source) {
-  return resolve_pencil(value, PathAccess({}, "", "", base_dir), source);
+  return open_pencil(value, PathAccess({}, "", "", base_dir), source);
 }
 
-pencil::PencilProfile resolve_pencil(const std::string& value, const PathAccess& access,
+pencil::PencilProfile open_pencil(const std::string& value, const PathAccess& access,
                                      const std::string& source) {
   const std::string prefix = display_path(source) + ": key 'pencil': ";
   for (const auto& name : shipped_pencils())

@@ -61,7 +61,7 @@ pencil::PencilProfile shipped_pencil(const std::string& name);
 pencil::PencilProfile resolve_pencil(const std::string& value, const std::filesystem::path& base_dir,
                                      const std::string& source);
 // The same with the file opened through `access` (relative paths from its base).
-pencil::PencilProfile resolve_pencil(const std::string& value, const PathAccess& access,
+pencil::PencilProfile open_pencil(const std::string& value, const PathAccess& access,
                                      const std::string& source);
 
 namespace detail {

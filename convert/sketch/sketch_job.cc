@@ -163,7 +163,7 @@ ConvertResult convert_sketch(const ConvertRequest& req) {
   const std::string name = safe_text(req.input.filename().string());  // names are data
   report_progress(req, 0.0);
 
-  const pencil::PencilProfile profile = resolve_pencil(
+  const pencil::PencilProfile profile = open_pencil(
       p.pencil, req.paths.access("pencil"),
       req.paths.from_job("pencil") ? req.paths.source_of("pencil") : req.params_source);
   const cv::Mat image = eight_bit(load_image(req.input, req.limits), name);

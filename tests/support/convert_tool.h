@@ -26,7 +26,10 @@ class ConvertToolFixture : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
+  // The build's atelier-convert; $ATELIER_TEST_CONVERT_TOOL runs the tests on another one
+  // (e.g. a wrapper around an older build, to see which of them it fails).
   static std::filesystem::path tool_path() {
+    if (const char* other = std::getenv("ATELIER_TEST_CONVERT_TOOL"); other && *other) return other;
     return std::filesystem::path(ATELIER_BINARY_DIR) / "bin" / "atelier-convert";
   }
   static std::string slurp(const std::filesystem::path& p) {

@@ -40,9 +40,10 @@ class JobPathsTest : public ::testing::Test {
     paths.mark_from_job("relax_mask", "face.png.toml", spool() / "work" / "7");
     return paths.access("relax_mask");
   }
+  // Reads `p` as the job gave it (relative to the sidecar's folder).
   std::string error_of(const PathAccess& a, const fs::path& p) {
     try {
-      a.read_text(p, 1 << 20);
+      a.read_text(a.resolve(p), 1 << 20);
     } catch (const ConvertError& e) {
       return e.what();
     }
@@ -54,7 +55,7 @@ class JobPathsTest : public ::testing::Test {
 
 TEST_F(JobPathsTest, AFileInsideTheSpoolIsRead) {
   EXPECT_EQ(job_access().read_text(spool() / "work" / "7" / "mine.png", 100), "job bytes");
-  EXPECT_EQ(job_access().read_text("mine.png", 100), "job bytes");  // relative to the sidecar
+  EXPECT_EQ(job_access().read_text(job_access().resolve("mine.png"), 100), "job bytes");  // from the sidecar
 }
 
 TEST_F(JobPathsTest, AnAbsolutePathOutsideIsRefusedNamingTheSidecarAndKey) {
@@ -81,7 +82,7 @@ TEST_F(JobPathsTest, UnconfinedAndTrustedKeysOpenAsGiven) {
   fs::create_symlink(dir_ / "private" / "photo.png", spool() / "work" / "7" / "out.png");
   JobPaths none;
   none.mark_from_job("relax_mask", "face.png.toml", spool() / "work" / "7");
-  EXPECT_EQ(none.access("relax_mask").read_text("out.png", 100), "private bytes");
+  EXPECT_EQ(none.access("relax_mask").read_text(spool() / "work" / "7" / "out.png", 100), "private bytes");
   // Confined, but the key came from the daemon's config.
   JobPaths confined({spool()});
   EXPECT_EQ(confined.access("wood").read_text(dir_ / "private" / "photo.png", 100), "private bytes");
@@ -95,7 +96,7 @@ TEST_F(JobPathsTest, FoldersFifosAndLargeFilesAreRefusedByName) {
   ASSERT_EQ(::mkfifo((spool() / "work" / "7" / "pipe").c_str(), 0600), 0);
   EXPECT_THAT(error_of(job_access(), "pipe"), HasSubstr("pipe: not a regular file"));
   try {
-    job_access().read_file("mine.png", 3);
+    job_access().read_file(spool() / "work" / "7" / "mine.png", 3);
     ADD_FAILURE() << "no error";
   } catch (const ConvertError& e) {
     EXPECT_THAT(e.what(), HasSubstr("mine.png: file is 9 bytes, over the limit of 3 bytes"));
