@@ -248,14 +248,16 @@ std::vector<SheetEntry> list_sheets(const PathAccess& access, const fs::path& gi
   for (const RawEntry& r : raw) {
     SheetEntry e = resolve(r, folder, default_dpi);
     // Opened as they will be read: a library.toml may not point a job outside the spool.
-    if (!access.is_file(e.image)) {
-      access.open_file(e.image);  // throws why
-      throw ConvertError(source + ": sheet '" + e.id + "': image " + display_path(e.image) + " not found");
-    }
-    if (!e.mask.empty() && !access.is_file(e.mask)) {
-      access.open_file(e.mask);
-      throw ConvertError(source + ": sheet '" + e.id + "': mask " + display_path(e.mask) + " not found");
-    }
+    auto check = [&](const fs::path& file, const char* what) {
+      try {
+        access.open_file(file);
+      } catch (const ConvertError& why) {
+        if (access.confined()) throw ConvertError(source + ": sheet '" + e.id + "': " + what + ": " + why.what());
+        throw ConvertError(source + ": sheet '" + e.id + "': " + what + " " + display_path(file) + " not found");
+      }
+    };
+    check(e.image, "image");
+    if (!e.mask.empty()) check(e.mask, "mask");
     out.push_back(std::move(e));
   }
   return out;
