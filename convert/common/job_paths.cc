@@ -36,12 +36,6 @@ bool inside(const fs::path& path, const fs::path& root, fs::path& rel) {
   return true;
 }
 
-std::string roots_text(const std::vector<fs::path>& roots) {
-  std::string s;
-  for (const fs::path& r : roots) s += (s.empty() ? "" : ", ") + display_path(r);
-  return s;
-}
-
 }  // namespace
 
 UniqueFd& UniqueFd::operator=(UniqueFd&& o) noexcept {
@@ -92,8 +86,7 @@ UniqueFd PathAccess::open(const fs::path& given, int flags) const {
         break;
       }
     if (!root) {
-      fail(given, "outside the spool: a job may name only files inside " + roots_text(roots_) +
-                      " ([spool] allow_paths adds folders)");
+      fail(given, "outside the spool (a job may name files only there and in [spool] allow_paths)");
     }
     UniqueFd dir(::open(root->c_str(), O_PATH | O_DIRECTORY | O_CLOEXEC));
     if (dir.get() < 0) fail(given, std::string("cannot open the folder it must be in: ") + std::strerror(errno));

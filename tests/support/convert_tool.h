@@ -15,12 +15,24 @@
 namespace atelier::test {
 
 class ConvertToolFixture : public ::testing::Test {
+ public:
+  static std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  static void write(const std::filesystem::path& p, const std::string& text) {
+    std::filesystem::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << text;
+  }
+
  protected:
   void SetUp() override {
     ASSERT_TRUE(std::filesystem::exists(tool_path())) << tool_path() << " is not built";
+    // Short: reasons name paths under it, and a test checks their length (in the daemon they
+    // are relative to the job's folder).
+    static int count = 0;
     dir_ = std::filesystem::temp_directory_path() /
-           ("atelier-convert-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           ("ac-" + std::to_string(::getpid()) + "-" + std::to_string(++count));
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }
@@ -31,14 +43,6 @@ class ConvertToolFixture : public ::testing::Test {
   static std::filesystem::path tool_path() {
     if (const char* other = std::getenv("ATELIER_TEST_CONVERT_TOOL"); other && *other) return other;
     return std::filesystem::path(ATELIER_BINARY_DIR) / "bin" / "atelier-convert";
-  }
-  static std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-  static void write(const std::filesystem::path& p, const std::string& text) {
-    std::filesystem::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
   }
   // Single-quoted for the shell (names may hold any byte but NUL).
   static std::string q(const std::string& s) {
