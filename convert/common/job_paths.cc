@@ -165,7 +165,9 @@ std::vector<std::string> PathAccess::list_files(const fs::path& dir_path) const 
     const std::string name = e->d_name;
     if (name == "." || name == "..") continue;
     struct stat st {};
-    if (::fstatat(fd.get(), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(st.st_mode))
+    // Confined, a symlink is never a file of the folder; unconfined, it is what it points to.
+    const int follow = roots_.empty() ? 0 : AT_SYMLINK_NOFOLLOW;
+    if (::fstatat(fd.get(), e->d_name, &st, follow) == 0 && S_ISREG(st.st_mode))
       names.push_back(name);
   }
   ::closedir(dir);

@@ -77,8 +77,9 @@ class PathAccess {
   // file is returned empty. Throws ConvertError.
   std::vector<unsigned char> read_file(const std::filesystem::path& path, uint64_t max_bytes) const;
   std::string read_text(const std::filesystem::path& path, uint64_t max_bytes) const;
-  // The names of the regular files in a folder (not following symlinks; "." and ".." and
-  // anything else left out), sorted. Throws ConvertError.
+  // The names of the regular files in a folder, sorted ("." and ".." and anything else left
+  // out; confined, a symlink is left out too, unconfined it counts as what it points to).
+  // Throws ConvertError.
   std::vector<std::string> list_files(const std::filesystem::path& dir) const;
   // Whether `path` names a regular file this access may open (false for a refused path).
   bool is_file(const std::filesystem::path& path) const;
