@@ -1,5 +1,7 @@
 #include "convert/convert.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 #include <opencv2/core.hpp>
 #include <stdexcept>
@@ -15,24 +17,24 @@ void report_progress(const ConvertRequest& req, double fraction) {
 ConvertResult convert(const ConvertRequest& request) {
   const KindInfo* kind = find_kind(request.kind);
   if (!kind) {
-    throw ConvertError(request.input.filename().string() + ": unknown kind '" + request.kind +
+    throw ConvertError(display_name(request.input) + ": unknown kind '" + display_value(request.kind) +
                        "' (known: " + known_kinds_text() + ")");
   }
   if (!request.together.empty() && !kind->batches) {
     std::string batching;
     for (const KindInfo& k : kinds())
       if (k.batches) batching += std::string(batching.empty() ? "" : " and ") + std::string(k.name);
-    throw ConvertError(request.input.filename().string() + ": only " + batching +
+    throw ConvertError(display_name(request.input) + ": only " + batching +
                        " converts several targets together, not " + request.kind);
   }
   // OpenCV reports bad data (and its own limits) by exception; the user sees the file name.
   try {
     return kind->convert(request);
   } catch (const cv::Exception& e) {
-    throw ConvertError(request.input.filename().string() + ": image processing failed: " +
+    throw ConvertError(display_name(request.input) + ": image processing failed: " +
                        e.err);
   } catch (const std::invalid_argument& e) {
-    throw ConvertError(request.input.filename().string() + ": " + e.what());
+    throw ConvertError(display_name(request.input) + ": " + e.what());
   }
 }
 

@@ -14,6 +14,7 @@
 
 #include "convert/common/convert_error.h"
 #include "convert/common/image_input.h"
+#include "convert/common/job_paths.h"
 
 namespace atelier {
 
@@ -33,6 +34,10 @@ struct ConvertRequest {
   std::string params_source = "parameters";  // for error messages
   std::filesystem::path output_dir;   // created if missing; outputs are written here
   ImageLimits limits;
+  // What the conversion may read for path-valued parameters that a job set (sidecar, job file,
+  // --set): confined to the spool and [spool] allow_paths when atelier-convert was given
+  // --confine, unconfined otherwise (job_paths.h).
+  JobPaths paths;
   // Further targets planned with this one (kind parquetry only; ConvertError otherwise).
   // Each gets its own outputs; the result describes the primary target.
   std::vector<ExtraTarget> together;

@@ -116,6 +116,10 @@ Config from_table(const toml::table& root, const std::string& source) {
     c.watch = r.get_choice("watch", "inotify", {"inotify", "poll"}) == "poll" ? WatchMode::poll
                                                                                : WatchMode::inotify;
     c.settle_ms = static_cast<int>(r.get_int("settle_ms", 500, 50, 600000));
+    for (const std::string& dir : r.get_string_list("allow_paths", {})) {
+      if (dir.empty()) r.fail("allow_paths", "a folder must not be an empty string");
+      c.allow_paths.emplace_back(dir);
+    }
     r.finish();
   }
   if (const toml::table* store = top.get_table("store")) {
@@ -172,6 +176,8 @@ Config from_table(const toml::table& root, const std::string& source) {
   const auto base = std::filesystem::path(source).parent_path();
   for (auto* p : {&c.spool_dir, &c.store_path, &c.socket_path})
     if (p->is_relative()) *p = base / *p;
+  for (auto& p : c.allow_paths)
+    if (p.is_relative()) p = (base / p).lexically_normal();
   for (DeviceConfig& d : c.devices)
     if (!d.dir.empty() && std::filesystem::path(d.dir).is_relative()) d.dir = (base / d.dir).lexically_normal().string();
   // The conversion reads its parameters from standard input, where they have no file.

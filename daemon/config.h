@@ -44,6 +44,15 @@ struct Config {
   std::filesystem::path spool_dir;   // required
   WatchMode watch = WatchMode::inotify;
   int settle_ms = 500;               // poll mode: size unchanged this long = complete
+  // Folders besides the spool that a job's own paths (sidecar, job file, --set) may name;
+  // absolute (relative ones are taken against the config file's folder). Default: none.
+  std::vector<std::filesystem::path> allow_paths;
+  // The spool and allow_paths: what a conversion is confined to (atelier-convert --confine).
+  std::vector<std::filesystem::path> confine_dirs() const {
+    std::vector<std::filesystem::path> dirs{spool_dir};
+    dirs.insert(dirs.end(), allow_paths.begin(), allow_paths.end());
+    return dirs;
+  }
 
   // [store]
   std::filesystem::path store_path = "/var/lib/atelier/jobs.sqlite";

@@ -52,6 +52,10 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
     args.push_back("--set");
     args.push_back(s);
   }
+  for (const auto& dir : task.confine) {
+    args.push_back("--confine");
+    args.push_back(dir.string());
+  }
   for (const auto& [input, output] : task.together) {
     args.push_back("--with");
     args.push_back(input.string());

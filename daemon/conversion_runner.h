@@ -35,6 +35,9 @@ struct ConversionTask {
   // scheduler only batches jobs whose own overrides equal the first job's.
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> together;
   ImageLimits limits;
+  // Folders the job's own paths must stay in (the spool and [spool] allow_paths), passed as
+  // `--confine DIR`; empty: none passed.
+  std::vector<std::filesystem::path> confine;
   std::chrono::seconds timeout{600};
   // Only parse and check the parameters (`atelier-convert --check`): no input is read, no
   // output written. The daemon checks a submit's --set values this way.

@@ -197,6 +197,7 @@ void Scheduler::convert_one(int64_t id) {
   // The job's --set strings go to the converter as given: the daemon parses no TOML of a job.
   task.sets = params_to_sets(job.params);
   task.limits = config->limits;
+  task.confine = config->confine_dirs();
   task.timeout = std::chrono::seconds(config->job_timeout_s) * static_cast<int64_t>(batch.size());
 
   int last_percent = -1;

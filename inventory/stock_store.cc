@@ -82,9 +82,23 @@ parquetry::Stock load_stock(const fs::path& dir) {
   return stock;
 }
 
-void save_stock(const fs::path& dir, const parquetry::Stock& stock) {
+namespace {
+void ensure_dir(const fs::path& dir, bool create) {
   std::error_code ec;
+  if (!create) {
+    if (!fs::is_directory(dir, ec))
+      throw ConvertError(dir.string() + ": no such stock folder (atelierd creates its [parquetry] stock "
+                         "folder at startup; a conversion does not create one)");
+    return;
+  }
   fs::create_directories(dir, ec);
+  if (ec) throw ConvertError(dir.string() + ": cannot create the stock folder: " + ec.message());
+}
+}  // namespace
+
+void save_stock(const fs::path& dir, const parquetry::Stock& stock, bool create) {
+  ensure_dir(dir, create);
+  std::error_code ec;
   if (ec) throw ConvertError(dir.string() + ": cannot create the stock folder: " + ec.message());
   nlohmann::ordered_json sheets = nlohmann::ordered_json::object();
   for (const auto& [id, pieces] : stock.used) {
@@ -100,10 +114,8 @@ void save_stock(const fs::path& dir, const parquetry::Stock& stock) {
   write_output(dir / kStockFile, root.dump(1) + "\n");
 }
 
-StockLock::StockLock(const fs::path& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw ConvertError(dir.string() + ": cannot create the stock folder: " + ec.message());
+StockLock::StockLock(const fs::path& dir, bool create) {
+  ensure_dir(dir, create);
   const fs::path file = dir / "stock.lock";
   fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw ConvertError(file.string() + ": cannot open the stock lock: " + std::strerror(errno));

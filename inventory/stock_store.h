@@ -20,8 +20,9 @@ namespace atelier {
 // A missing file (or folder) is an empty stock. ConvertError on a corrupt file (names it).
 parquetry::Stock load_stock(const std::filesystem::path& dir);
 
-// Writes <dir>/stock.json atomically (temporary file + rename); creates dir.
-void save_stock(const std::filesystem::path& dir, const parquetry::Stock& stock);
+// Writes <dir>/stock.json atomically (temporary file + rename); creates dir when `create`
+// (otherwise a missing dir is a ConvertError naming it).
+void save_stock(const std::filesystem::path& dir, const parquetry::Stock& stock, bool create = true);
 
 // Exclusive advisory lock (flock) on <dir>/stock.lock for the object's lifetime; the
 // constructor blocks until it holds the lock and creates dir. ConvertError if the lock file
@@ -29,7 +30,9 @@ void save_stock(const std::filesystem::path& dir, const parquetry::Stock& stock)
 // own descriptor). Non-copyable, non-movable.
 class StockLock {
  public:
-  explicit StockLock(const std::filesystem::path& dir);
+  // `create`: make dir if missing (atelier-convert run by hand); false: a missing dir is a
+  // ConvertError "DIR: no such stock folder" (a conversion run by the daemon).
+  explicit StockLock(const std::filesystem::path& dir, bool create = true);
   ~StockLock();
   StockLock(const StockLock&) = delete;
   StockLock& operator=(const StockLock&) = delete;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "convert/common/display_text.h"
 #include "convert/common/output_files.h"
 #include "convert/common/param_table.h"
 
@@ -108,18 +109,17 @@ void check_unique(std::vector<RawEntry>& entries, const std::string& source) {
   }
 }
 
-std::vector<RawEntry> read_library_file(const fs::path& file) {
-  const std::string source = file.string();
+// A library.toml lists sheets: a few kilobytes; anything far larger is not one.
+constexpr uint64_t kMaxLibraryBytes = 4u << 20;
+
+std::vector<RawEntry> read_library_file(const PathAccess& access, const fs::path& file) {
+  const std::string source = display_path(file);
   toml::table root;
   try {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw ConvertError(source + ": cannot read");
-    std::ostringstream text;
-    text << in.rdbuf();
-    root = toml::parse(text.str(), std::string_view{source});
+    const std::string text = access.read_text(file, kMaxLibraryBytes);
+    root = toml::parse(text, std::string_view{source});
   } catch (const toml::parse_error& e) {
-    throw ConvertError(source + ":" + std::to_string(e.source().begin.line) + ": " +
-                       std::string(e.description()));
+    throw ConvertError(toml_error_text(e, source));
   }
   std::vector<RawEntry> entries;
   for (const auto& [k, v] : root) {
@@ -136,40 +136,46 @@ std::vector<RawEntry> read_library_file(const fs::path& file) {
 }
 
 // The sheets of a folder without library.toml: every image not named *.mask.*.
-std::vector<RawEntry> scan_folder(const fs::path& folder) {
+// Regular files only (list_files does not follow symlinks).
+std::vector<RawEntry> scan_folder(const PathAccess& access, const fs::path& folder) {
   std::vector<RawEntry> entries;
-  std::error_code ec;
-  for (const auto& de : fs::directory_iterator(folder, ec)) {
-    std::error_code file_ec;  // `ec` is the listing's own
-    if (!de.is_regular_file(file_ec) || !is_image_extension(de.path())) continue;
-    const std::string stem = de.path().stem().string();
+  const std::vector<std::string> files = access.list_files(folder);
+  for (const std::string& name : files) {
+    const fs::path file(name);
+    if (!is_image_extension(file)) continue;
+    const std::string stem = file.stem().string();
     if (stem.empty() || stem.front() == '.') continue;  // hidden and temporary files
     if (lower(fs::path(stem).extension().string()) == ".mask") continue;
     RawEntry e;
     e.id = stem;
-    check_id(e.id, de.path().string() + ": ");
-    e.image = de.path().filename().string();
-    if (fs::is_regular_file(folder / (stem + ".mask.png"), file_ec)) e.mask = stem + ".mask.png";
+    check_id(e.id, display_path(folder / file) + ": ");
+    e.image = name;
+    if (std::find(files.begin(), files.end(), stem + ".mask.png") != files.end()) e.mask = stem + ".mask.png";
     entries.push_back(e);
   }
-  if (ec) throw ConvertError(folder.string() + ": cannot list the wood folder: " + ec.message());
-  check_unique(entries, folder.string());
+  check_unique(entries, display_path(folder));
   return entries;
 }
 
-void check_folder(const fs::path& folder) {
+void check_folder(const PathAccess& access, const fs::path& folder) {
+  if (access.is_dir(folder)) return;
   std::error_code ec;
-  if (!fs::is_directory(folder, ec)) {
-    throw ConvertError(folder.string() + ": no such wood folder");
-  }
+  if (!access.confined() && !fs::exists(folder, ec))
+    throw ConvertError(access.prefix(folder) + "no such wood folder");
+  access.open_dir(folder);  // throws why (outside the spool, a symlink, not a folder, ...)
+  throw ConvertError(access.prefix(folder) + "no such wood folder");
 }
 
-std::vector<RawEntry> raw_entries(const fs::path& folder) {
-  check_folder(folder);
-  std::error_code ec;
-  const fs::path lib = folder / kLibraryFile;
-  if (fs::exists(lib, ec)) return read_library_file(lib);
-  return scan_folder(folder);
+bool has_library(const PathAccess& access, const fs::path& folder) {
+  return access.is_file(folder / kLibraryFile);
+}
+
+std::vector<RawEntry> raw_entries(const PathAccess& access, const fs::path& folder) {
+  check_folder(access, folder);
+  const std::vector<std::string> files = access.list_files(folder);
+  if (std::find(files.begin(), files.end(), kLibraryFile) != files.end())
+    return read_library_file(access, folder / kLibraryFile);
+  return scan_folder(access, folder);
 }
 
 void write_library(const fs::path& folder, const std::vector<RawEntry>& entries) {
@@ -230,19 +236,28 @@ void remove_copied(const fs::path& folder, const std::string& id, const std::str
 }  // namespace
 
 std::vector<SheetEntry> list_sheets(const fs::path& folder, double default_dpi) {
-  std::vector<RawEntry> raw = raw_entries(folder);
-  const bool library = fs::exists(folder / kLibraryFile);
-  const std::string source = library ? (folder / kLibraryFile).string() : folder.string();
+  return list_sheets(PathAccess(), folder, default_dpi);
+}
+
+std::vector<SheetEntry> list_sheets(const PathAccess& access, const fs::path& given, double default_dpi) {
+  const fs::path folder = access.resolve(given);
+  std::vector<RawEntry> raw = raw_entries(access, folder);
+  const bool library = has_library(access, folder);
+  const std::string source = display_path(library ? folder / kLibraryFile : folder);
   std::vector<SheetEntry> out;
   for (const RawEntry& r : raw) {
     SheetEntry e = resolve(r, folder, default_dpi);
-    std::error_code ec;
-    if (!fs::is_regular_file(e.image, ec)) {
-      throw ConvertError(source + ": sheet '" + e.id + "': image " + e.image.string() + " not found");
-    }
-    if (!e.mask.empty() && !fs::is_regular_file(e.mask, ec)) {
-      throw ConvertError(source + ": sheet '" + e.id + "': mask " + e.mask.string() + " not found");
-    }
+    // Opened as they will be read: a library.toml may not point a job outside the spool.
+    auto check = [&](const fs::path& file, const char* what) {
+      try {
+        access.open_file(file);
+      } catch (const ConvertError& why) {
+        if (access.confined()) throw ConvertError(source + ": sheet '" + e.id + "': " + what + ": " + why.what());
+        throw ConvertError(source + ": sheet '" + e.id + "': " + what + " " + display_path(file) + " not found");
+      }
+    };
+    check(e.image, "image");
+    if (!e.mask.empty()) check(e.mask, "mask");
     out.push_back(std::move(e));
   }
   return out;
@@ -259,21 +274,21 @@ std::vector<SheetEntry> sheets_from_toml(const toml::array& list, const fs::path
 }
 
 std::vector<parquetry::Sheet> load_sheets(const std::vector<SheetEntry>& entries,
-                                          const ImageLimits& limits) {
+                                          const ImageLimits& limits, const PathAccess& access) {
   std::vector<parquetry::Sheet> sheets;
   for (const SheetEntry& e : entries) {
     parquetry::Sheet s;
     s.id = e.id;
     s.dpi = e.dpi;
     try {
-      s.image = to_bgr8(load_image(e.image, limits));
+      s.image = to_bgr8(load_image(access, e.image, limits));
     } catch (const cv::Exception& ex) {
       throw ConvertError(e.image.filename().string() + ": cannot decode the scan of sheet '" + e.id +
                          "': " + ex.err);
     }
     if (!e.mask.empty()) {
       try {
-        s.usable = to_mask(load_image(e.mask, limits));
+        s.usable = to_mask(load_image(access, e.mask, limits));
       } catch (const cv::Exception& ex) {
         throw ConvertError(e.mask.filename().string() + ": cannot decode the mask of sheet '" +
                            e.id + "': " + ex.err);
@@ -303,7 +318,7 @@ void add_sheet(const fs::path& folder, const std::string& id, const fs::path& im
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec) throw ConvertError(folder.string() + ": cannot create the wood folder: " + ec.message());
-  std::vector<RawEntry> entries = raw_entries(folder);
+  std::vector<RawEntry> entries = raw_entries(PathAccess(), folder);
   auto old = std::find_if(entries.begin(), entries.end(), [&](const RawEntry& e) { return e.id == id; });
   const std::optional<RawEntry> replaced = old == entries.end() ? std::nullopt : std::optional(*old);
   if (old != entries.end()) entries.erase(old);
@@ -337,7 +352,7 @@ void add_sheet(const fs::path& folder, const std::string& id, const fs::path& im
 }
 
 void remove_sheet(const fs::path& folder, const std::string& id) {
-  std::vector<RawEntry> entries = raw_entries(folder);
+  std::vector<RawEntry> entries = raw_entries(PathAccess(), folder);
   // A folder without library.toml holds the user's own scans, not copies: keep them (the
   // library written below no longer lists the sheet).
   const bool managed = fs::exists(folder / kLibraryFile);

@@ -24,6 +24,7 @@
 #include "algorithms/parquetry/sheet.h"
 #include "convert/common/convert_error.h"
 #include "convert/common/image_input.h"
+#include "convert/common/job_paths.h"
 
 namespace atelier {
 
@@ -37,6 +38,11 @@ struct SheetEntry {
 // The sheets of a wood folder (see above), sorted by id. Throws ConvertError naming the file
 // and problem (missing folder, bad TOML, a missing image, repeated id, ...).
 std::vector<SheetEntry> list_sheets(const std::filesystem::path& folder, double default_dpi);
+// The same with every file (the folder, library.toml, the scans and masks it names) opened
+// through `access` (convert/common/job_paths.h: confined to the spool when a job named the
+// folder; relative `folder` from access's base).
+std::vector<SheetEntry> list_sheets(const PathAccess& access, const std::filesystem::path& folder,
+                                    double default_dpi);
 
 // The `wood` parameter given as a TOML array of tables {id, image, mask?, dpi?}; relative
 // paths are taken against `base`. `source` names the parameters' file for messages.
@@ -47,8 +53,9 @@ std::vector<SheetEntry> sheets_from_toml(const toml::array& list, const std::fil
 // Decodes the scans to BGR (image_input limits apply; grey or BGRA scans are converted) and
 // the masks to CV_8UC1 (255 = usable; a mask must be the scan's size). ConvertError naming
 // the file.
+// `access`: how the files are opened (default: as given).
 std::vector<parquetry::Sheet> load_sheets(const std::vector<SheetEntry>& entries,
-                                          const ImageLimits& limits);
+                                          const ImageLimits& limits, const PathAccess& access = PathAccess());
 
 // Copies `image` (and `mask` if not empty) into `folder` as <id>.<ext> / <id>.mask.png and
 // adds or replaces the [[sheet]] entry of `id` in folder/library.toml (created from the

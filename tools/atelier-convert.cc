@@ -2,7 +2,7 @@
 //
 //   atelier-convert KIND INPUT OUTPUT_DIR [--params FILE.toml] [--set key=value ...]
 //                   [--with INPUT2 OUTPUT_DIR2 ...] [--progress-fd N] [--max-file-bytes B]
-//                   [--max-pixels P] [--check]
+//                   [--max-pixels P] [--check] [--memory-mb N] [--confine DIR ...]
 //
 // --check only parses and checks the parameters (--params, then --set), reads no input and
 // writes nothing; atelierd runs it to refuse a submit's bad --set values in a child process.
@@ -17,6 +17,11 @@
 // INPUT is the job file itself (NAME.toml: kind = "lace" and parameters), the middle layer,
 // or "-" for none. Writes the
 // kind's outputs and a copy of the input into OUTPUT_DIR, like a job's done/<id>/ folder.
+// --confine (repeatable; atelierd passes the spool and [spool] allow_paths): a path that the
+// sidecar, the job file or --set gives (relax_mask, start_chart, wood, pencil, textures) must
+// lie inside one of these folders and is opened without following any symlink; a job may not
+// set `stock`. Paths from --params (the daemon's config) are opened as given, as is everything
+// without --confine (convert/common/job_paths.h).
 // Exit codes: 0 ok, 1 bad input or parameters (message on stderr), 2 usage.
 //
 // Two more commands that are not job kinds (they take their own options; see `--help` of each):
@@ -43,6 +48,8 @@
 #include "convert/convert.h"
 #include "convert/kinds.h"
 #include "convert/common/memory_budget.h"
+#include "convert/common/display_text.h"
+#include "convert/common/job_paths.h"
 #include "convert/common/param_table.h"
 #include "convert/job_file_kind.h"
 #include "tools/convert_commands.h"
@@ -108,6 +115,15 @@ void copy_input(const fs::path& input, const fs::path& out_dir,
   if (ec) throw ConvertError(name + ": cannot copy into " + out_dir.string() + ": " + ec.message());
 }
 
+// A reason names the job's file: one about a --set value (or another file) gets the input's
+// name in front, so the reason of a job says which job it is.
+std::string naming_input(const std::string& input, const std::string& message) {
+  if (input == "-") return message;
+  const std::string name = atelier::display_name(input);
+  if (message.find(name) != std::string::npos) return message;
+  return name + ": " + message;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,6 +150,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   std::vector<std::vector<std::string>> with;
   int progress_fd = -1;
+  std::vector<std::string> confine;
   atelier::ImageLimits limits;
   app.add_option("KIND", kind,
                  "kind of job (knit, parquetry, embroidery, sketch: an image; cut: an SVG; lace: a job "
@@ -161,6 +178,9 @@ int main(int argc, char** argv) {
   app.add_option("--memory-mb", memory_mb,
                  "memory budget in MB (address-space limit; 0: none); running out fails with "
                  "\"INPUT: needs more than N MB (limits.job_memory_mb)\"");
+  app.add_option("--confine", confine,
+                 "files named by the sidecar, job file or --set must be inside DIR (repeatable)")
+      ->allow_extra_args(false);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -190,6 +210,12 @@ int main(int argc, char** argv) {
     if (memory_mb > 0) atelier::apply_memory_budget(memory_mb, input_name);
     // Each layer is checked on its own first, so an error names its file and line.
     toml::table params;
+    std::vector<fs::path> roots(confine.begin(), confine.end());
+    atelier::JobPaths paths(roots);
+    // Every key a job layer sets is the job's: its paths are confined (and named by its file).
+    auto mark = [&paths](const toml::table& layer, const std::string& source, const fs::path& base) {
+      for (const auto& [k, v] : layer) paths.mark_from_job(std::string(k.str()), source, base);
+    };
     if (!params_file.empty()) {
       toml::table layer = parse_toml_file(params_file);
       atelier::validate_kind_params(kind, layer, params_file);
@@ -217,6 +243,7 @@ int main(int argc, char** argv) {
       } else {
         toml::table layer = parse_toml_file(in.string());
         atelier::validate_kind_params(kind, layer, in.string());
+        mark(layer, in.string(), in.parent_path());
         atelier::merge_into(params, layer);
       }
     } else if (no_input) {
@@ -228,12 +255,14 @@ int main(int argc, char** argv) {
       if (in.extension() != ".toml" && fs::is_regular_file(sidecar, ec)) {
         toml::table layer = parse_toml_file(sidecar.string());
         atelier::validate_kind_params(kind, layer, sidecar.string());
+        mark(layer, sidecar.string(), sidecar.parent_path());
         atelier::merge_into(params, layer);
       }
     }
     toml::table overrides;
     for (const auto& s : sets) atelier::apply_set(overrides, s);
     atelier::validate_kind_params(kind, overrides, "--set");
+    mark(overrides, "--set", {});
     atelier::merge_into(params, overrides);
 
     Progress progress(progress_fd, in.filename().string());
@@ -244,6 +273,7 @@ int main(int argc, char** argv) {
     req.params_source = "parameters";
     req.output_dir = output_dir;
     req.limits = limits;
+    req.paths = std::move(paths);
     for (const auto& w : with) req.together.push_back({w.at(0), w.at(1)});
     req.progress = [&progress](double f) { progress(f); };
     atelier::ConvertResult result = atelier::convert(req);
@@ -260,9 +290,9 @@ int main(int argc, char** argv) {
                                   : input_name + ": out of memory (" + e.what() + ")")
                 << "\n";
     } else if (dynamic_cast<const ConvertError*>(&e) || dynamic_cast<const ParamError*>(&e)) {
-      std::cerr << "error: " << e.what() << "\n";
+      std::cerr << "error: " << naming_input(input, e.what()) << "\n";
     } else {
-      std::cerr << "error: " << input << ": " << e.what() << "\n";
+      std::cerr << "error: " << atelier::display_path(input) << ": " << e.what() << "\n";
     }
     return 1;
   }

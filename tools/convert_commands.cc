@@ -17,6 +17,7 @@
 #include "algorithms/pencil/reference_scan.h"
 #include "algorithms/pencil/strokes.h"
 #include "convert/convert.h"
+#include "convert/common/display_text.h"
 #include "convert/common/image_input.h"
 #include "convert/sketch/line_job.h"
 #include "convert/common/output_files.h"
@@ -30,14 +31,13 @@ namespace fs = std::filesystem;
 // Reads a whole TOML file (also /dev/stdin, which cannot be sized or seeked).
 toml::table parse_toml_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParamError(path + ": cannot open: " + std::strerror(errno));
+  if (!in) throw ParamError(display_path(path) + ": cannot open: " + std::strerror(errno));
   std::ostringstream text;
   text << in.rdbuf();
   try {
     return toml::parse(text.str(), std::string_view{path});
   } catch (const toml::parse_error& e) {
-    throw ParamError(path + ":" + std::to_string(e.source().begin.line) + ": " +
-                     std::string(e.description()));
+    throw ParamError(toml_error_text(e, path));
   }
 }
 

@@ -1,5 +1,7 @@
 #include "convert/common/chart_text.h"
 
+#include "convert/common/display_text.h"
+
 namespace atelier {
 
 void chart_text(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold,
@@ -8,9 +10,11 @@ void chart_text(cairo_t* cr, double x, double y, const std::string& s, double si
                          bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, size);
   cairo_text_extents_t ext;
-  cairo_text_extents(cr, s.c_str(), &ext);
+  // Cairo refuses text that is not UTF-8 (and would stop the whole document): names are data.
+  const std::string text = safe_text(s);
+  cairo_text_extents(cr, text.c_str(), &ext);
   cairo_move_to(cr, x - align * ext.x_advance, y);
-  cairo_show_text(cr, s.c_str());
+  cairo_show_text(cr, text.c_str());
 }
 
 }  // namespace atelier

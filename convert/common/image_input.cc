@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "convert/convert.h"
+#include "convert/common/display_text.h"
 #include "convert/common/image_signature.h"
 
 namespace atelier {
@@ -17,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 [[noreturn]] void fail(const fs::path& file, const std::string& problem) {
-  throw ConvertError(file.filename().string() + ": " + problem);
+  throw ConvertError(display_name(file) + ": " + problem);
 }
 
 // Refuses anything that is not a regular file (directories, devices, dangling links) before
@@ -101,32 +102,45 @@ cv::Mat load_image(const fs::path& file, const ImageLimits& limits) {
     fail(file, "file grew over the limit of " + std::to_string(limits.max_file_bytes) +
                    " bytes while being read");
   }
+  return decode_image(data, display_name(file) + ": ", limits);
+}
+
+cv::Mat load_image(const PathAccess& access, const fs::path& file, const ImageLimits& limits) {
+  const std::vector<unsigned char> data = access.read_file(file, limits.max_file_bytes);
+  return decode_image(data, access.prefix(file), limits);
+}
+
+cv::Mat decode_image(const std::vector<unsigned char>& data, const std::string& prefix,
+                     const ImageLimits& limits) {
+  auto fail = [&prefix](const std::string& problem) -> void { throw ConvertError(prefix + problem); };
+  if (data.size() > limits.max_file_bytes) {
+    fail("file is " + std::to_string(data.size()) + " bytes, over the limit of " +
+         std::to_string(limits.max_file_bytes) + " bytes");
+  }
   MemoryBytes bytes(data);
   ImageHeader header;
   try {
     header = probe_header(bytes);
   } catch (const SignatureError& e) {
-    fail(file, e.what());
+    fail(e.what());
   }
   if (header.width > limits.max_pixels || header.height > limits.max_pixels ||
       header.width * header.height > limits.max_pixels) {
-    fail(file, "image is " + size_text(header.width, header.height) + " = " +
-                   std::to_string(header.width * header.height) +
-                   " pixels, over the limit of " + std::to_string(limits.max_pixels) +
-                   " pixels");
+    fail("image is " + size_text(header.width, header.height) + " = " +
+         std::to_string(header.width * header.height) + " pixels, over the limit of " +
+         std::to_string(limits.max_pixels) + " pixels");
   }
-  if (std::optional<std::string> problem = check_complete(header.format, bytes)) {
-    fail(file, *problem);
-  }
+  if (std::optional<std::string> problem = check_complete(header.format, bytes)) fail(*problem);
   // JPEG has no alpha: IMREAD_COLOR applies the EXIF orientation a phone photo relies on.
   int flags = header.format == "jpeg" ? cv::IMREAD_COLOR : cv::IMREAD_UNCHANGED;
   cv::Mat image;
   try {
     image = cv::imdecode(data, flags);
   } catch (const cv::Exception& e) {
-    fail(file, "cannot decode " + header.format + " data: " + e.err);
+    // OpenCV's message names its own source line, never the file's bytes.
+    fail("cannot decode " + header.format + " data: " + display_value(e.err, 120));
   }
-  if (image.empty()) fail(file, "cannot decode " + header.format + " data (corrupt file)");
+  if (image.empty()) fail("cannot decode " + header.format + " data (corrupt file)");
   return image;
 }
 

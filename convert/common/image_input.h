@@ -8,6 +8,9 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
+
+#include "convert/common/job_paths.h"
 
 namespace atelier {
 
@@ -30,6 +33,15 @@ ImageHeader probe_image(const std::filesystem::path& file);
 // (IMREAD_UNCHANGED: alpha kept). Throws ConvertError naming the file for every failure,
 // including truncated or corrupt data that the decoder rejects.
 cv::Mat load_image(const std::filesystem::path& file, const ImageLimits& limits);
+
+// The same for a file a parameter names, opened through `access` (job_paths.h: confined to the
+// spool when a job named it). Messages start with access.prefix(file) ("SIDECAR: key 'K': FILE: ").
+cv::Mat load_image(const PathAccess& access, const std::filesystem::path& file, const ImageLimits& limits);
+
+// The checks and decoding of load_image on bytes already read; every message starts with
+// `prefix` (which names the file).
+cv::Mat decode_image(const std::vector<unsigned char>& data, const std::string& prefix,
+                     const ImageLimits& limits);
 
 // The image with 8-bit pixels (the same data when it already has them): decoders give 16-bit
 // PNGs and TIFFs as 0..65535 (scaled by 1/257) and float TIFFs as 0..1 (scaled by 255); other

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <map>
 
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 
 namespace atelier {
@@ -35,7 +36,7 @@ laser::LayerSettings read_layer(const toml::table& table, const std::string& sou
   std::string color = r.get_string("color", "");
   auto parsed = parse_laser_color(color);
   if (!parsed) {
-    r.fail("color", "'" + color + "' is not a colour (#rrggbb, #rgb or a name such as red)");
+    r.fail("color", "'" + display_value(color) + "' is not a colour (#rrggbb, #rgb or a name such as red)");
   }
   s.color = *parsed;
   s.name = r.get_string("name", color);

@@ -3,13 +3,39 @@
 #include <cmath>
 #include <sstream>
 
+#include "convert/common/display_text.h"
+
 namespace atelier {
 
 std::string where(const toml::node& node, const std::string& fallback_source) {
   const auto& src = node.source();
-  std::string file = src.path ? *src.path : fallback_source;
+  std::string file = display_path(src.path ? *src.path : fallback_source);
   if (src.begin.line > 0) return file + ":" + std::to_string(src.begin.line) + ": ";
   return file + ": ";
+}
+
+std::string toml_error_text(const toml::parse_error& error, const std::string& source) {
+  std::string d(error.description());
+  // "expected '=', saw 'x'": what was seen is the file's content.
+  for (const char* cut : {", saw", " saw "})
+    if (size_t at = d.find(cut); at != std::string::npos) d.erase(at);
+  // Quoted parts longer than a token ("cannot redefine existing table 'a.b'") name content.
+  std::string out;
+  for (size_t i = 0; i < d.size();) {
+    const size_t close = d[i] == '\'' ? d.find('\'', i + 1) : std::string::npos;
+    if (close == std::string::npos) {
+      out += d[i++];
+      continue;
+    }
+    const std::string inner = d.substr(i + 1, close - i - 1);
+    out += "'" + (inner.size() <= 2 ? inner : std::string("...")) + "'";
+    i = close + 1;
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ',' || out.back() == ':')) out.pop_back();
+  const auto& begin = error.source().begin;
+  std::string at = display_path(source);
+  if (begin.line > 0) at += ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column);
+  return at + ": not valid TOML: " + safe_text(out);
 }
 
 TableReader::TableReader(const toml::table& table, std::string source, std::string section)
@@ -24,8 +50,8 @@ bool TableReader::has(const std::string& key) const { return table_.contains(key
 
 void TableReader::fail(const std::string& key, const std::string& problem) const {
   const toml::node* n = table_.get(key);
-  std::string prefix = n ? where(*n, source_) : source_ + ": ";
-  std::string qualified = section_.empty() ? key : section_ + "." + key;
+  std::string prefix = n ? where(*n, source_) : display_path(source_) + ": ";
+  std::string qualified = display_value(section_.empty() ? key : section_ + "." + key);
   throw ParamError(prefix + "key '" + qualified + "': " + problem);
 }
 
@@ -77,7 +103,7 @@ std::string TableReader::get_choice(const std::string& key, const std::string& d
     if (c == v) return v;
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
-  fail(key, "'" + v + "' is not one of: " + list);
+  fail(key, "'" + display_value(v) + "' is not one of: " + list);
 }
 
 std::vector<std::string> TableReader::get_string_list(const std::string& key,
@@ -113,7 +139,7 @@ void TableReader::finish() const {
   for (const auto& [k, v] : table_) {
     std::string key(k.str());
     if (!read_.count(key)) {
-      std::string qualified = section_.empty() ? key : section_ + "." + key;
+      std::string qualified = display_value(section_.empty() ? key : section_ + "." + key);
       throw ParamError(where(v, source_) + "unknown key '" + qualified + "'");
     }
   }
@@ -122,7 +148,7 @@ void TableReader::finish() const {
 void apply_set(toml::table& target, const std::string& assignment) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw ParamError("--set " + assignment + ": expected key=value");
+    throw ParamError("--set " + display_value(assignment) + ": expected key=value");
   }
   std::string key = assignment.substr(0, eq);
   std::string value = assignment.substr(eq + 1);

@@ -28,6 +28,11 @@ class ParamError : public BadInput {
 // "FILE:LINE: " for a node parsed from a file, "FILE: " when no line is known.
 std::string where(const toml::node& node, const std::string& fallback_source);
 
+// "SOURCE:LINE:COLUMN: not valid TOML: PROBLEM" for a syntax error, never quoting the text
+// that was read (toml++'s descriptions say "saw 'x'" or quote keys and values; those parts
+// are dropped or replaced by '...').
+std::string toml_error_text(const toml::parse_error& error, const std::string& source);
+
 // Replaces a relative path string at t[key] by base / path (lexically normal); an absolute
 // or empty value, or a key that is absent or not a string, is left as it is.
 void make_path_absolute(toml::table& t, const std::string& key, const std::filesystem::path& base);

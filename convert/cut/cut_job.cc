@@ -1,5 +1,7 @@
 #include "convert/cut/cut_job.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -106,7 +108,7 @@ CutParams read_cut_params(const toml::table& params, const std::string& source) 
 ConvertResult convert_cut(const ConvertRequest& req) {
   const CutParams p = read_cut_params(req.params, req.params_source);
   const LaserParams& lp = p.laser;
-  const std::string input_name = req.input.filename().string();
+  const std::string input_name = safe_text(req.input.filename().string());  // names are data
   report_progress(req, 0.0);
 
   SvgDrawing drawing = read_svg(req.input, lp.tolerance_mm, req.limits.max_file_bytes);

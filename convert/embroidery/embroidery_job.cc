@@ -1,11 +1,13 @@
 #include "convert/embroidery/embroidery_job.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "algorithms/embroidery/pipeline.h"
 #include "convert/embroidery/embroidery_params.h"
+#include "convert/common/display_text.h"
 #include "convert/common/image_input.h"
 #include "convert/common/output_files.h"
 #include "convert/embroidery/dst_writer.h"
@@ -40,12 +42,12 @@ cv::Mat3b regions_image(const emb::Segmentation& seg) {
   return out;
 }
 
-emb::ReferenceTexture load_texture(const fs::path& image_file, const fs::path& normal_file,
-                                   double dpi) {
-  const std::string name = image_file.filename().string();
-  cv::Mat image = cv::imread(image_file.string(), cv::IMREAD_UNCHANGED);
+emb::ReferenceTexture load_texture(const PathAccess& access, const fs::path& image_file,
+                                   const fs::path& normal_file, double dpi, const ImageLimits& limits) {
+  const std::string name = access.prefix(image_file);
+  cv::Mat image = load_image(access, image_file, limits);
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 4))
-    throw ConvertError(name + ": not an 8-bit colour PNG or JPEG texture");
+    throw ConvertError(name + "not an 8-bit colour PNG or JPEG texture");
   emb::ReferenceTexture t;
   if (image.channels() == 4) {
     cv::Mat channels[4];
@@ -56,11 +58,13 @@ emb::ReferenceTexture load_texture(const fs::path& image_file, const fs::path& n
     t.color = image;
     t.alpha = cv::Mat1b(image.size(), 255);
   }
-  if (fs::exists(normal_file)) {
-    cv::Mat normal = cv::imread(normal_file.string(), cv::IMREAD_COLOR);
+  if (access.is_file(normal_file)) {
+    cv::Mat normal = to_8bit(load_image(access, normal_file, limits));
+    if (normal.channels() == 1) cv::cvtColor(normal, normal, cv::COLOR_GRAY2BGR);
+    else if (normal.channels() == 4) cv::cvtColor(normal, normal, cv::COLOR_BGRA2BGR);
     if (normal.empty() || normal.size() != image.size())
-      throw ConvertError(normal_file.filename().string() + ": the normal map must be a colour "
-                         "image of the same size as " + name);
+      throw ConvertError(access.prefix(normal_file) + "the normal map must be a colour "
+                         "image of the same size as " + display_name(image_file));
     t.normal = normal;
   } else {
     t.normal = cv::Mat3b(image.size(), cv::Vec3b(255, 128, 128));  // flat, BGR of (128,128,255)
@@ -70,36 +74,36 @@ emb::ReferenceTexture load_texture(const fs::path& image_file, const fs::path& n
   try {
     emb::validate_texture(t);
   } catch (const std::invalid_argument& e) {
-    throw ConvertError(name + ": " + e.what());
+    throw ConvertError(name + e.what());
   }
   return t;
 }
 
 }  // namespace
 
-LoadedTextures load_textures(const fs::path& folder, double dpi) {
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw ConvertError(folder.string() + ": the textures folder does not exist");
+LoadedTextures load_textures(const PathAccess& access, const fs::path& given, double dpi,
+                             const ImageLimits& limits) {
+  const fs::path folder = access.resolve(given);
+  if (!access.is_dir(folder)) {
+    access.open_dir(folder);  // throws the reason (outside the spool, a symlink, ...)
+    access.fail(folder, "the textures folder does not exist");
+  }
+  const std::vector<std::string> files = access.list_files(folder);
   LoadedTextures out{emb::procedural_textures(), {}};
   for (int s = 0; s < emb::kStyleCount; ++s) {
     const std::string style = emb::style_name(static_cast<emb::Style>(s));
     const fs::path image = folder / (style + ".png");
     out.sources[s] = "procedural";
-    if (!fs::exists(image)) continue;
-    try {
-      out.set.style[s] = load_texture(image, folder / (style + ".normal.png"), dpi);
-    } catch (const ConvertError& e) {
-      throw ConvertError(folder.string() + "/" + e.what());
-    }
-    out.sources[s] = image.string();
+    if (std::find(files.begin(), files.end(), style + ".png") == files.end()) continue;
+    out.set.style[s] = load_texture(access, image, folder / (style + ".normal.png"), dpi, limits);
+    out.sources[s] = safe_text(image.string());
   }
   return out;
 }
 
 ConvertResult convert_embroidery(const ConvertRequest& req) {
   const EmbroideryParams params = read_embroidery_params(req.params, req.params_source);
-  const std::string name = req.input.filename().string();
+  const std::string name = safe_text(req.input.filename().string());  // names are data
   report_progress(req, 0.0);
   const cv::Mat image = load_image(req.input, req.limits);
   if (image.depth() != CV_8U || image.channels() == 2)
@@ -107,7 +111,8 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   cv::Mat input = image;
   if (image.channels() == 1) cv::cvtColor(image, input, cv::COLOR_GRAY2BGR);
   LoadedTextures textures{emb::procedural_textures(), {"procedural", "procedural", "procedural"}};
-  if (params.textures) textures = load_textures(*params.textures, params.texture_dpi);
+  if (params.textures)
+    textures = load_textures(req.paths.access("textures"), *params.textures, params.texture_dpi, req.limits);
   report_progress(req, 0.1);
 
   emb::Design design;
@@ -120,7 +125,7 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   if (emb::stitch_stats(design.plan).stitches == 0)
     throw ConvertError(name + ": nothing to sew: no region of the image is large enough to stitch "
                        "(an empty or white image, or specks under min_region_mm2)");
-  design.plan.name = req.input.stem().string();
+  design.plan.name = safe_text(req.input.stem().string());
 
   fs::create_directories(req.output_dir);
   write_output(req.output_dir / "design.dst", emb::write_dst(design.plan));

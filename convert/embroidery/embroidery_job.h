@@ -49,6 +49,7 @@ struct LoadedTextures {
   embroidery::TextureSet set;
   std::string sources[embroidery::kStyleCount];
 };
-LoadedTextures load_textures(const std::filesystem::path& folder, double dpi);
+LoadedTextures load_textures(const PathAccess& access, const std::filesystem::path& folder, double dpi,
+                             const ImageLimits& limits);
 
 }  // namespace atelier

@@ -1,5 +1,6 @@
 #include "convert/embroidery/embroidery_params.h"
 
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 
 namespace atelier {
@@ -13,7 +14,7 @@ EmbroideryParams read_embroidery_params(const toml::table& table, const std::str
   if (r.has("colors")) {
     const toml::node& node = *table.get("colors");
     if (auto word = node.value_exact<std::string>()) {
-      if (*word != "auto") r.fail("colors", "expected \"auto\" or a number of colours, not \"" + *word + "\"");
+      if (*word != "auto") r.fail("colors", "expected \"auto\" or a number of colours, not \"" + display_value(*word) + "\"");
       r.get_string("colors", "");
       d.colors.colors = 0;
     } else {

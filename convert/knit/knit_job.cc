@@ -1,5 +1,7 @@
 #include "convert/knit/knit_job.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -49,9 +51,9 @@ cv::Vec3b bgr(const Rgb& c) { return cv::Vec3b(c.b, c.g, c.r); }
 
 // The relax mask in stitch-grid coordinates: resampled exactly as the picture (same size,
 // same orientation and gauge), dark mask pixels (< 128) become relaxed stitches.
-cv::Mat load_relax(const fs::path& mask_file, const cv::Size& picture, const KnitParams& p,
-                   const ImageLimits& limits) {
-  cv::Mat mask = to_8bit(load_image(mask_file, limits));
+cv::Mat load_relax(const PathAccess& access, const fs::path& mask_file, const cv::Size& picture,
+                   const KnitParams& p, const ImageLimits& limits) {
+  cv::Mat mask = to_8bit(load_image(access, mask_file, limits));
   cv::Mat resized;
   cv::resize(mask, resized, picture, 0, 0, cv::INTER_NEAREST);
   cv::Mat grey = knit::to_stitch_grid(resized, p.gauge());
@@ -66,7 +68,7 @@ double pct(long part, long whole) { return whole > 0 ? 100.0 * part / whole : 10
 ConvertResult convert_knit(const ConvertRequest& req) {
   StageTimer timer;
   const KnitParams p = read_knit_params(req.params, req.params_source);
-  const std::string input_name = req.input.filename().string();
+  const std::string input_name = safe_text(req.input.filename().string());  // names are data
   report_progress(req, 0.0);
 
   ImageHeader header = probe_image(req.input);
@@ -91,7 +93,13 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   rules.max_float = p.max_float;
   rules.anchoring = p.anchoring;
   fs::path relax_file = resolve_relax_mask(p, req.input);
-  if (!relax_file.empty()) rules.relax = load_relax(relax_file, image.size(), p, req.limits);
+  if (!relax_file.empty()) {
+    // The parameter is opened as its origin allows (confined when a job set it); the
+    // NAME.EXT.relax.png beside the input is job content too.
+    const PathAccess access = p.relax_mask.empty() ? req.paths.companion(input_name)
+                                                   : req.paths.access("relax_mask", req.input.parent_path());
+    rules.relax = load_relax(access, relax_file, image.size(), p, req.limits);
+  }
   timer.done("stitch_grid");
   report_progress(req, 0.1);
 
@@ -178,7 +186,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
       {"threshold", p.threshold},
       {"max_float", p.max_float},
       {"anchoring", p.anchoring},
-      {"relax_mask", relax_file.string()},
+      {"relax_mask", safe_text(relax_file.string())},
       {"solver", p.solver},
       {"seed", p.seed},
       {"rw_n", p.rw_n},

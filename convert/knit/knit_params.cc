@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 
 namespace atelier {
@@ -67,7 +68,7 @@ KnitParams read_knit_params(const toml::table& table, const std::string& source)
   if (colors.size() != 2) r.fail("colors", "expected two colours: [background, contrast]");
   for (int i = 0; i < 2; ++i) {
     if (!parse_rgb(colors[i], p.rgb[i])) {
-      r.fail("colors", "'" + colors[i] + "' is not a colour of the form #rrggbb");
+      r.fail("colors", "'" + display_value(colors[i]) + "' is not a colour of the form #rrggbb");
     }
     p.colors[i] = colors[i];
   }

@@ -63,8 +63,17 @@ LaceChartFile lace_chart_from_json_text(const std::string& text, const std::stri
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // Where, never what: nlohmann's message quotes the bytes it read ("last read: '...'").
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') ++line, column = 1;
+      else ++column;
+    }
+    throw std::invalid_argument(source + ": not JSON: syntax error at line " + std::to_string(line) +
+                                ", column " + std::to_string(column));
   } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument(source + ": not JSON: " + e.what());
+    throw std::invalid_argument(source + ": not JSON (error " + std::to_string(e.id) + ")");
   }
   return lace_chart_from_json(j, source);
 }

@@ -1,5 +1,7 @@
 #include "convert/lace/lace_job.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -125,8 +127,8 @@ ConvertResult convert_lace(const ConvertRequest& req) {
       params.start_chart_file = req.input.parent_path() / *params.start_chart_file;
   }
   const std::string title =
-      req.input.empty() || req.input == "-" ? std::string("lace") : req.input.stem().string();
-  const std::optional<LaceChartFile> start = load_start_chart(params);
+      req.input.empty() || req.input == "-" ? std::string("lace") : safe_text(req.input.stem().string());
+  const std::optional<LaceChartFile> start = load_start_chart(params, req.paths.access("start_chart", req.input.parent_path()));
   check_lace_budget(params, start ? start->cast_on : params.width,
                     start ? static_cast<int>(start->chart.rows.size()) : params.rows, job, req);
   report_progress(req, 0.0);

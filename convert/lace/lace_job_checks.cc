@@ -8,6 +8,7 @@
 #include "algorithms/lace/fitness.h"
 #include "algorithms/lace/instructions.h"
 #include "algorithms/lace/transfers.h"
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 
 namespace atelier {
@@ -19,21 +20,17 @@ namespace fs = std::filesystem;
 // larger is not one (and would only be read into memory to be refused).
 constexpr std::uintmax_t kMaxStartChartBytes = 4 << 20;
 
-// Throws std::invalid_argument (the caller adds the file and key).
-std::string read_text(const fs::path& file) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(file, ec);
-  if (ec || !fs::exists(st)) throw std::invalid_argument("no such file");
-  if (fs::is_directory(st)) throw std::invalid_argument("a folder, not a chart file (chart.json or instructions.txt)");
-  if (!fs::is_regular_file(st)) throw std::invalid_argument("not a regular file");
-  if (fs::file_size(file, ec) > kMaxStartChartBytes)
-    throw std::invalid_argument("larger than " + std::to_string(kMaxStartChartBytes >> 20) +
-                                " MB: not a chart.json or instructions.txt");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::invalid_argument("cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+// Read through `access` (confined to the spool when a job named the file). Throws
+// std::invalid_argument "PATH: problem" (the caller adds the file and key).
+std::string read_text(const PathAccess& access, const fs::path& file) {
+  const PathAccess quiet = access.relabeled("", "");
+  if (quiet.is_dir(file))
+    throw std::invalid_argument(display_path(file) + ": a folder, not a chart file (chart.json or instructions.txt)");
+  try {
+    return quiet.read_text(file, kMaxStartChartBytes);
+  } catch (const ConvertError& e) {
+    throw std::invalid_argument(e.what());
+  }
 }
 
 // What one job may ask for, so that a job file cannot take the machine's memory or run for
@@ -49,19 +46,30 @@ constexpr double kMaxSwatchStitches = 5e5;    // (width x repeats_wide) x (rows 
 // The start chart named by the parameters: a chart.json, an instructions.txt, or inline rows,
 // within what evolve() takes (EvolveParams::start). Every problem is a ParamError
 // "FILE:LINE: key 'start_chart': <chart file or 'inline rows'>: <problem>".
-std::optional<LaceChartFile> load_start_chart(const LaceParams& p) {
+std::optional<LaceChartFile> load_start_chart(const LaceParams& p, const PathAccess& access) {
   if (!p.start_chart_file && p.start_rows.empty()) return std::nullopt;
-  const std::string where = p.start_chart_file ? p.start_chart_file->string() : std::string("inline rows");
+  // A file's own messages start with its path (read_text, the parsers below add it).
+  const std::string where = p.start_chart_file ? display_path(*p.start_chart_file) : std::string("inline rows");
   try {
     LaceChartFile chart;
     if (p.start_chart_file) {
       const fs::path& file = *p.start_chart_file;
-      const std::string text = read_text(file);
-      if (file.extension() == ".json") {
-        chart = lace_chart_from_json_text(text, "");
-      } else {
-        const lace::ParsedInstructions parsed = lace::parse_instructions(text);
-        chart = LaceChartFile{parsed.chart, parsed.cast_on};
+      std::string text;
+      try {
+        text = read_text(access, file);
+      } catch (const std::invalid_argument& e) {
+        throw ParamError(p.start_chart_where + e.what());
+      }
+      try {
+        if (file.extension() == ".json") {
+          chart = lace_chart_from_json_text(text, "");
+        } else {
+          const lace::ParsedInstructions parsed = lace::parse_instructions(text);
+          chart = LaceChartFile{parsed.chart, parsed.cast_on};
+        }
+      } catch (const std::invalid_argument& e) {
+        // The parsers quote what they could not read: never echo a file's bytes.
+        throw std::invalid_argument(redact_quoted(e.what(), text));
       }
     } else {
       std::string text;
@@ -166,7 +174,7 @@ void check_start_feasible(const LaceChartFile& start, const lace::EvolveParams& 
   std::string list;
   for (const std::string& b : broken) list += (list.empty() ? "" : "; ") + b;
   throw ParamError(p.start_chart_where +
-                   (p.start_chart_file ? p.start_chart_file->string() : std::string("inline rows")) +
+                   (p.start_chart_file ? display_path(*p.start_chart_file) : std::string("inline rows")) +
                    ": with generations = 0 the result is this chart, but it breaks the constraints: " + list);
 }
 

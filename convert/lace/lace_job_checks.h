@@ -25,7 +25,7 @@ std::string lace_job_key_where(const toml::table& job, const ConvertRequest& req
 
 // The start chart named by the parameters: a chart.json, an instructions.txt, or inline rows,
 // within what evolve() takes (EvolveParams::start); nullopt when none is named.
-std::optional<LaceChartFile> load_start_chart(const LaceParams& p);
+std::optional<LaceChartFile> load_start_chart(const LaceParams& p, const PathAccess& access);
 
 // Throws when the job would take too much memory or time: population x width x rows <= 2e7,
 // x generations <= 4e9, population^2 x generations <= 2e10, a swatch of at most 500000

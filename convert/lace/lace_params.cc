@@ -1,12 +1,13 @@
 #include "convert/lace/lace_params.h"
 
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 
 namespace atelier {
 
 std::string lace_key_where(const toml::table& table, const std::string& key, const std::string& source) {
   const toml::node* node = table.get(key);
-  return (node ? where(*node, source) : source + ": ") + "key '" + key + "': ";
+  return (node ? where(*node, source) : display_path(source) + ": ") + "key '" + key + "': ";
 }
 
 LaceParams read_lace_params(const toml::table& table, const std::string& source) {
@@ -14,7 +15,7 @@ LaceParams read_lace_params(const toml::table& table, const std::string& source)
   LaceParams p;
   if (r.has("kind")) {
     const std::string kind = r.get_string("kind", "lace");
-    if (kind != "lace") r.fail("kind", "this is a lace job; kind must be \"lace\", not \"" + kind + "\"");
+    if (kind != "lace") r.fail("kind", "this is a lace job; kind must be \"lace\", not \"" + display_value(kind) + "\"");
   }
   p.width = static_cast<int>(r.get_int("width", p.width, 2, 200));
   p.rows = static_cast<int>(r.get_int("rows", p.rows, 1, 200));

@@ -1,5 +1,7 @@
 #include "convert/lace/lace_report.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 
 #include "algorithms/lace/chart.h"
@@ -37,7 +39,7 @@ nlohmann::json params_json(const LaceParams& p) {
                       {"lace_carriage", p.lace_carriage},
                       {"repeats_wide", p.repeats_wide},
                       {"repeats_high", p.repeats_high}};
-  if (p.start_chart_file) j["start_chart"] = p.start_chart_file->string();
+  if (p.start_chart_file) j["start_chart"] = safe_text(p.start_chart_file->string());
   else if (!p.start_rows.empty()) j["start_chart"] = p.start_rows;
   return j;
 }
@@ -78,7 +80,7 @@ nlohmann::json lace_report_json(const ConvertRequest& req, const std::string& ti
   const lace::Knittability knit = lace::knittable(chart, cast_on);
   return {
       {"kind", "lace"},
-      {"input", req.input == "-" ? std::string("-") : req.input.filename().string()},
+      {"input", req.input == "-" ? std::string("-") : safe_text(req.input.filename().string())},
       {"title", title},
       {"cast_on", cast_on},
       {"rows", chart.rows.size()},

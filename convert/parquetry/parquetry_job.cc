@@ -16,6 +16,7 @@
 #include "convert/common/param_table.h"
 #include "convert/parquetry/parquetry_params.h"
 #include "convert/parquetry/parquetry_svg.h"
+#include "convert/common/display_text.h"
 #include "inventory/stock_store.h"
 #include "inventory/wood_library.h"
 
@@ -115,7 +116,7 @@ json params_json(const ParquetryParams& p, const std::vector<SheetEntry>& wood) 
   const parquetry::Params& q = p.plan;
   json w;
   if (p.wood_folder) {
-    w = p.wood_folder->string();
+    w = safe_text(p.wood_folder->string());
   } else {
     w = json::array();
     for (const auto& e : wood) w.push_back(e.id);
@@ -138,7 +139,7 @@ json params_json(const ParquetryParams& p, const std::vector<SheetEntry>& wood) 
           {"min_feature_mm", q.min_feature_mm},
           {"seed", q.seed},
           {"px_per_mm", q.px_per_mm},
-          {"stock", p.stock_dir ? json(p.stock_dir->string()) : json(nullptr)}};
+          {"stock", p.stock_dir ? json(safe_text(p.stock_dir->string())) : json(nullptr)}};
 }
 
 const parquetry::Sheet& sheet_by_id(const std::vector<parquetry::Sheet>& sheets, const std::string& id) {
@@ -153,7 +154,7 @@ json write_target(const Target& t, const parquetry::Plan& plan,
                   const ParquetryParams& p, const std::vector<SheetEntry>& wood, const Layers& layers,
                   double plan_ms, std::vector<std::string>& outputs) {
   const Clock::time_point start = Clock::now();
-  const std::string input_name = t.input.filename().string();
+  const std::string input_name = safe_text(t.input.filename().string());  // names are data
   const laser::Machine& m = p.laser.machine;
 
   // The sheets this plan uses, by id (also the cutting order).
@@ -330,9 +331,18 @@ json write_target(const Target& t, const parquetry::Plan& plan,
 ConvertResult convert_parquetry(const ConvertRequest& req) {
   const std::string& source = req.params_source;
   const ParquetryParams p = read_parquetry_params(req.params, source);
-  const std::vector<SheetEntry> wood = require_wood(p, source);
+  // The stock is workshop state: a job (sidecar, job file, --set) run by the daemon may not
+  // choose where it lives, and the converter creates no stock folder for it.
+  if (req.paths.confined() && req.paths.from_job("stock")) {
+    throw ParamError(display_path(req.paths.source_of("stock")) +
+                     ": key 'stock': a job may not choose the stock folder (the workshop's used "
+                     "wood, [parquetry] stock in the daemon's config)");
+  }
+  const PathAccess wood_access = req.paths.access("wood");
+  const std::vector<SheetEntry> wood = require_wood(p, source, wood_access);
   if (wood.empty()) {
-    throw ConvertError((p.wood_folder ? p.wood_folder->string() : source) + ": no veneer scans in the wood library");
+    throw ConvertError((p.wood_folder ? wood_access.prefix(*p.wood_folder) : source + ": ") +
+                       "no veneer scans in the wood library");
   }
   const Layers layers = laser_layers(p.laser, p.plan.kerf_mm, source);
   report_progress(req, 0.0);
@@ -360,15 +370,16 @@ ConvertResult convert_parquetry(const ConvertRequest& req) {
   std::optional<StockLock> lock;
   parquetry::Stock stock;
   if (p.stock_dir) {
-    lock.emplace(*p.stock_dir);
+    // Run by the daemon (confined), the stock folder must exist: the daemon makes its own.
+    lock.emplace(*p.stock_dir, /*create=*/!req.paths.confined());
     stock = load_stock(*p.stock_dir);
   }
-  const std::vector<parquetry::Sheet> sheets = load_sheets(wood, req.limits);
+  const std::vector<parquetry::Sheet> sheets = load_sheets(wood, req.limits, wood_access);
   report_progress(req, 0.1);
 
   std::vector<cv::Mat> images;
   for (const Target& t : targets) images.push_back(t.image);
-  const std::string first = req.input.filename().string();
+  const std::string first = safe_text(req.input.filename().string());
   std::vector<parquetry::Plan> plans;
   const Clock::time_point plan_start = Clock::now();
   try {
@@ -396,7 +407,7 @@ ConvertResult convert_parquetry(const ConvertRequest& req) {
     report_progress(req, 0.7 + 0.3 * double(i + 1) / double(targets.size()));
   }
   // Only now, with every output written, is the wood taken.
-  if (p.stock_dir) save_stock(*p.stock_dir, after);
+  if (p.stock_dir) save_stock(*p.stock_dir, after, /*create=*/!req.paths.confined());
   report_progress(req, 1.0);
   return result;
 }

@@ -72,9 +72,18 @@ ParquetryParams read_parquetry_params(const toml::table& table, const std::strin
   return p;
 }
 
-std::vector<SheetEntry> require_wood(const ParquetryParams& p, const std::string& source) {
-  if (p.wood_list) return *p.wood_list;
-  if (p.wood_folder) return list_sheets(*p.wood_folder, p.dpi);
+std::vector<SheetEntry> require_wood(const ParquetryParams& p, const std::string& source,
+                                     const PathAccess& access) {
+  if (p.wood_list) {
+    // Sheets listed in a job: relative paths from the job's own folder.
+    std::vector<SheetEntry> list = *p.wood_list;
+    for (SheetEntry& e : list) {
+      e.image = access.resolve(e.image);
+      if (!e.mask.empty()) e.mask = access.resolve(e.mask);
+    }
+    return list;
+  }
+  if (p.wood_folder) return list_sheets(access, *p.wood_folder, p.dpi);
   throw ParamError(source + ": parquetry needs `wood`: a folder of veneer scans "
                    "(wood = \"/var/lib/atelier/wood\") or a list of sheets "
                    "(wood = [{id = \"maple\", image = \"maple.png\", dpi = 300}]), in [parquetry], "

@@ -49,7 +49,9 @@ ParquetryParams read_parquetry_params(const toml::table& params, const std::stri
 // The sheets to plan on: the listed ones, or the folder's (wood_library.h list_sheets).
 // Throws ParamError "parquetry needs `wood` ..." when neither was given, ConvertError for a
 // folder that cannot be read.
-std::vector<SheetEntry> require_wood(const ParquetryParams& params, const std::string& source);
+// `access`: how the folder and the scans are opened (confined when a job named them).
+std::vector<SheetEntry> require_wood(const ParquetryParams& params, const std::string& source,
+                                     const PathAccess& access = PathAccess());
 
 
 // The [parquetry] section's wood library and stock: under state_dir (wood/, wood-stock/)

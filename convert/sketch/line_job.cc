@@ -8,6 +8,7 @@
 #include "algorithms/pencil/path.h"
 #include "algorithms/pencil/texture.h"
 #include "convert/common/output_files.h"
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 #include "convert/sketch/pencil_profile_file.h"
 
@@ -38,7 +39,7 @@ cv::Point2d read_point(TableReader& r, const toml::table& t, const std::string& 
     char comma = 0;
     std::string rest;
     if (!(in >> xy[0]) || !(in >> comma) || comma != ',' || !(in >> xy[1]) || (in >> rest))
-      r.fail(key, "'" + s + "' is not \"X,Y\" (two numbers, px)");
+      r.fail(key, "'" + display_value(s) + "' is not \"X,Y\" (two numbers, px)");
   } else {
     r.fail(key, "expected \"X,Y\" or [X, Y] (px)");
   }

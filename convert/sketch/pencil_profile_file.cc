@@ -1,5 +1,7 @@
 #include "convert/sketch/pencil_profile_file.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -227,7 +229,7 @@ pencil::PencilProfile profile_from_toml(std::string_view text, const std::string
   try {
     t = toml::parse(text, std::string_view{source});
   } catch (const toml::parse_error& e) {
-    throw ConvertError(source + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+    throw ConvertError(toml_error_text(e, source));
   }
   try {
     ProfileReader r(t, source);
@@ -255,16 +257,13 @@ pencil::PencilProfile profile_from_toml(std::string_view text, const std::string
 }
 
 pencil::PencilProfile load_profile_file(const std::filesystem::path& file) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(file, ec);
-  if (ec) throw ConvertError(file.string() + ": cannot read the pencil profile: " + ec.message());
-  if (size > kMaxProfileBytes)
-    throw ConvertError(file.string() + ": " + std::to_string(size) + " bytes is too large for a pencil profile");
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw ConvertError(file.string() + ": cannot read the pencil profile");
-  return profile_from_toml(text.str(), file.string());
+  return load_profile_file(PathAccess(), file);
+}
+
+pencil::PencilProfile load_profile_file(const PathAccess& access, const std::filesystem::path& file) {
+  // read_text refuses folders, FIFOs and files over the limit, naming the file.
+  const std::string text = access.read_text(file, kMaxProfileBytes);
+  return profile_from_toml(text, safe_text(file.string()));
 }
 
 const std::vector<std::string>& shipped_pencils() {
@@ -295,18 +294,22 @@ pencil::PencilProfile shipped_pencil(const std::string& name) {
 
 pencil::PencilProfile resolve_pencil(const std::string& value, const std::filesystem::path& base_dir,
                                      const std::string& source) {
-  const std::string prefix = source + ": key 'pencil': ";
+  return open_pencil(value, PathAccess({}, "", "", base_dir), source);
+}
+
+pencil::PencilProfile open_pencil(const std::string& value, const PathAccess& access,
+                                     const std::string& source) {
+  const std::string prefix = display_path(source) + ": key 'pencil': ";
   for (const auto& name : shipped_pencils())
     if (upper(name) == upper(value)) return shipped_pencil(name);
-  std::filesystem::path file(value);
+  const std::filesystem::path file(value);
   if (file.extension() != ".toml")
-    throw ConvertError(prefix + "'" + value + "' is neither a shipped pencil (" + joined(shipped_pencils()) +
-                       ") nor a .toml profile file");
-  if (file.is_relative() && !base_dir.empty()) file = base_dir / file;
+    throw ConvertError(prefix + "'" + display_value(value) + "' is neither a shipped pencil (" +
+                       joined(shipped_pencils()) + ") nor a .toml profile file");
   try {
-    return load_profile_file(file);
+    return load_profile_file(access.relabeled("", ""), access.resolve(file));
   } catch (const ConvertError& e) {
-    throw ConvertError(prefix + "'" + value + "': " + e.what());
+    throw ConvertError(prefix + e.what());
   }
 }
 

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "algorithms/pencil/profile.h"
+#include "convert/common/job_paths.h"
 
 namespace atelier {
 
@@ -42,6 +43,8 @@ pencil::PencilProfile profile_from_toml(std::string_view text, const std::string
 // Reads a profile file (at most 4 MiB: twice the largest profile_to_toml writes). Throws
 // ConvertError naming the file.
 pencil::PencilProfile load_profile_file(const std::filesystem::path& file);
+// The same, opened through `access` (job_paths.h: confined when a job named the file).
+pencil::PencilProfile load_profile_file(const PathAccess& access, const std::filesystem::path& file);
 
 // The grades that ship with atelier, light to dark: {"2H", "H", "F", "HB", "B", "3B", "6B", "8B"}
 // (the embedded data/pencils/*.toml files, in the order of pencil::grade_models()).
@@ -56,6 +59,9 @@ pencil::PencilProfile shipped_pencil(const std::string& name);
 // folder). Throws ConvertError "SOURCE: key 'pencil': ..." naming the value (and the file's
 // own error for a bad profile file; the shipped grades for an unknown name).
 pencil::PencilProfile resolve_pencil(const std::string& value, const std::filesystem::path& base_dir,
+                                     const std::string& source);
+// The same with the file opened through `access` (relative paths from its base).
+pencil::PencilProfile open_pencil(const std::string& value, const PathAccess& access,
                                      const std::string& source);
 
 namespace detail {

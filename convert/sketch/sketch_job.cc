@@ -1,5 +1,7 @@
 #include "convert/sketch/sketch_job.h"
 
+#include "convert/common/display_text.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -72,6 +74,13 @@ std::string svg_path_data(const std::vector<cv::Point2d>& path) {
   return d.str();
 }
 
+// A name inside an XML comment: valid UTF-8, no "--" (which would end or break the comment).
+std::string comment_safe(const std::string& s) {
+  std::string out = safe_text(s);
+  for (size_t at; (at = out.find("--")) != std::string::npos;) out.replace(at, 2, "- -");
+  return out;
+}
+
 std::string lines_svg(const pencil::SketchDrawing& drawing, double width_mm, double stroke_px,
                       const std::string& pencil) {
   const int w = drawing.canvas.cols, h = drawing.canvas.rows;
@@ -80,7 +89,7 @@ std::string lines_svg(const pencil::SketchDrawing& drawing, double width_mm, dou
     << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << laser::format_number(width_mm)
     << "mm\" height=\"" << laser::format_number(width_mm * h / w) << "mm\" viewBox=\"0 0 " << w << ' '
     << h << "\">\n"
-    << "<!-- atelier sketch: hand-drawn pencil lines (" << pencil << "), drawing px -->\n";
+    << "<!-- atelier sketch: hand-drawn pencil lines (" << comment_safe(pencil) << "), drawing px -->\n";
   for (bool hatch : {false, true}) {
     s << "<g id=\"" << (hatch ? "hatching" : "strokes") << "\" fill=\"none\" stroke=\"" << kGraphite
       << "\" stroke-width=\"" << laser::format_number(stroke_px)
@@ -151,10 +160,12 @@ laser::Layer engrave_layer(const pencil::SketchDrawing& drawing, const SketchPar
 ConvertResult convert_sketch(const ConvertRequest& req) {
   const Clock::time_point start = Clock::now();
   const SketchParams p = read_sketch_params(req.params, req.params_source);
-  const std::string name = req.input.filename().string();
+  const std::string name = safe_text(req.input.filename().string());  // names are data
   report_progress(req, 0.0);
 
-  const pencil::PencilProfile profile = resolve_pencil(p.pencil, {}, req.params_source);
+  const pencil::PencilProfile profile = open_pencil(
+      p.pencil, req.paths.access("pencil"),
+      req.paths.from_job("pencil") ? req.paths.source_of("pencil") : req.params_source);
   const cv::Mat image = eight_bit(load_image(req.input, req.limits), name);
 
   Clock::time_point t = Clock::now();
@@ -226,7 +237,7 @@ ConvertResult convert_sketch(const ConvertRequest& req) {
   nlohmann::ordered_json r;
   r["kind"] = "sketch";
   r["input"] = {{"file", name}, {"width_px", image.cols}, {"height_px", image.rows}};
-  r["pencil"] = {{"name", profile.name},
+  r["pencil"] = {{"name", safe_text(profile.name)},
                  {"source", p.pencil},
                  {"width_px", round3(profile.width_px)},
                  {"mean_grey", round3(mean_grey(profile))}};

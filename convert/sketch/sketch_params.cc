@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
+#include "convert/common/display_text.h"
 #include "convert/common/param_table.h"
 #include "convert/sketch/pencil_profile_file.h"
 
@@ -30,7 +31,7 @@ SketchParams read_sketch_params(const toml::table& params, const std::string& so
       if (it == grades.end()) {
         std::string list;
         for (const auto& g : grades) list += (list.empty() ? "" : ", ") + g;
-        r.fail("pencil", "unknown pencil '" + value + "' (shipped: " + list +
+        r.fail("pencil", "unknown pencil '" + display_value(value) + "' (shipped: " + list +
                              "; or a profile file NAME.toml from `atelier-convert pencil-profile`)");
       }
       p.pencil = *it;

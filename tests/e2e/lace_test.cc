@@ -135,18 +135,27 @@ TEST(E2ELace, AJobFileWhoseStartChartIsMissingOrTooBigFailsNamingTheFileLineAndK
   DaemonProcess daemon(tmp.path());
   daemon.start();
   const fs::path incoming = daemon.spool() / "incoming";
-  atelier::test::write_file(tmp.path() / "missing.toml",
-                            "kind = \"lace\"\npopulation = 4\nstart_chart = \"" + (tmp.path() / "none.json").string() + "\"\n");
+  atelier::test::write_file(tmp.path() / "missing.toml", "kind = \"lace\"\npopulation = 4\nstart_chart = \"none.json\"\n");
   atelier::test::drop_file(tmp.path() / "missing.toml", incoming / "missing.toml");
+  // A file outside the spool is not read for a job (the daemon would read it with its rights).
+  atelier::test::write_file(tmp.path() / "secret.txt", "root:SECRET-MARKER:20228:0:99999:7:::\n");
+  atelier::test::write_file(tmp.path() / "private.toml", "kind = \"lace\"\npopulation = 4\nstart_chart = \"" +
+                                                             (tmp.path() / "secret.txt").string() + "\"\n");
+  atelier::test::drop_file(tmp.path() / "private.toml", incoming / "private.toml");
   atelier::test::write_file(tmp.path() / "huge.toml", "population = 100000\ngenerations = 1000\n");
   atelier::test::drop_file(tmp.path() / "huge.toml", daemon.incoming("lace") / "huge.toml");
 
   ASSERT_TRUE(daemon.wait_job_state("missing.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
   const std::string missing = daemon.job_named("missing.toml")["reason"];
-  EXPECT_NE(missing.find("missing.toml:3: key 'start_chart': " + (tmp.path() / "none.json").string() +
-                         ": no such file"),
-            std::string::npos)
+  EXPECT_NE(missing.find("missing.toml:3: key 'start_chart': none.json: no such file"), std::string::npos)
       << missing;
+  ASSERT_TRUE(daemon.wait_job_state("private.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
+  const std::string outside = daemon.job_named("private.toml")["reason"];
+  EXPECT_NE(outside.find("private.toml:3: key 'start_chart': " + (tmp.path() / "secret.txt").string() +
+                         ": outside the spool"),
+            std::string::npos)
+      << outside;
+  EXPECT_EQ(outside.find("SECRET-MARKER"), std::string::npos) << outside;
   // Refused before any memory is taken or any generation runs.
   ASSERT_TRUE(daemon.wait_job_state("huge.toml", "failed")) << daemon.jobs().dump(2) << daemon.log();
   const std::string huge = daemon.job_named("huge.toml")["reason"];

@@ -20,6 +20,16 @@ std::string error_of(const std::string& text) {
 }
 }  // namespace
 
+TEST(Config, AllowPathsAreResolvedAgainstTheConfigAndJoinTheSpoolAsConfinement) {
+  Config c = parse_config("[spool]\ndir = \"/srv/spool\"\nallow_paths = [\"/srv/scans\", \"shared\"]\n",
+                          "/etc/atelier/atelierd.toml");
+  EXPECT_EQ(c.confine_dirs(),
+            (std::vector<std::filesystem::path>{"/srv/spool", "/srv/scans", "/etc/atelier/shared"}));
+  EXPECT_EQ(parse_config("[spool]\ndir = \"/srv/spool\"\n", "x.toml").confine_dirs(),
+            std::vector<std::filesystem::path>{"/srv/spool"});
+  EXPECT_THROW(parse_config("[spool]\ndir = \"/s\"\nallow_paths = \"/srv\"\n", "x.toml"), atelier::ParamError);
+}
+
 TEST(Config, ThreeLinesAreEnoughAndEverythingElseHasDefaults) {
   Config c = parse_config(
       "[spool]\ndir = \"/srv/spool\"\n[store]\npath = \"/srv/jobs.sqlite\"\n"

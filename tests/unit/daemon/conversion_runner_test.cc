@@ -81,6 +81,19 @@ TEST(ConversionRunner, TheBudgetIsTheChildsAddressSpaceLimit) {
   EXPECT_EQ(kib, std::to_string(300 * 1024));
 }
 
+TEST(ConversionRunner, PassesTheSpoolAndAllowedFoldersAsConfine) {
+  atelier::test::TempDir tmp;
+  SubprocessRunner runner(script(tmp.path(), "cat >/dev/null; echo \"$@\" > \"$3/args.txt\"; exit 0"));
+  ConversionTask t = task(tmp.path());
+  t.confine = {"/srv/spool", "/srv/scans"};
+  std::atomic<bool> cancel{false};
+  auto out = runner.run(t, nullptr, cancel);
+  EXPECT_EQ(out.status, ConversionOutcome::Status::ok) << out.message;
+  std::ifstream args_file(tmp.path() / "args.txt");
+  std::string args((std::istreambuf_iterator<char>(args_file)), {});
+  EXPECT_NE(args.find("--confine /srv/spool --confine /srv/scans"), std::string::npos) << args;
+}
+
 TEST(ConversionRunner, AFailureCarriesTheConvertersMessageWithoutTheWorkPath) {
   atelier::test::TempDir tmp;
   SubprocessRunner runner(script(tmp.path(),

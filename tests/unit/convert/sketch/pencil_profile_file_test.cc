@@ -242,7 +242,7 @@ TEST(PencilProfileFile, TheLargestProfileReadsBackAndOversizedFilesAreRefused) {
     ADD_FAILURE() << "a file over 4 MiB was read";
   } catch (const ConvertError& e) {
     EXPECT_THAT(e.what(), HasSubstr("padded.toml: "));
-    EXPECT_THAT(e.what(), HasSubstr("too large for a pencil profile"));
+    EXPECT_THAT(e.what(), HasSubstr("over the limit of 4194304 bytes"));
   }
   fs::remove_all(dir);
 }
