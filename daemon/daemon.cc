@@ -22,6 +22,7 @@
 #include "daemon/file_drop_device.h"
 #include "daemon/knit_device.h"
 #include "daemon/laser_device.h"
+#include "daemon/scan_check.h"
 #include "daemon/wood_service.h"
 #include "drivers/serial_transport.h"
 #include "drivers/usb_device.h"
@@ -359,6 +360,10 @@ nlohmann::json Daemon::wood(ControlRequest& request) {
       busy += (busy.empty() ? "job " : ", ") + std::to_string(id);
   places.busy_hint = busy.empty() ? "" : busy + " being planned";
   places.staging = c->state_dir() / ".wood-add";
+  places.check_decode = [memory_mb = c->job_memory_mb](const std::vector<fs::path>& files) {
+    check_scans_decode(find_convert_executable(), files,
+                       {std::chrono::seconds(30), 30, static_cast<uint64_t>(memory_mb) << 20});
+  };
   WoodScans scans;
   if (args.value("action", "") == "add") {
     // Read with the client's rights, like submit: image first, then the mask.

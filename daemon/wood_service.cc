@@ -235,6 +235,15 @@ nlohmann::json wood_request(const WoodPlaces& places, const nlohmann::json& args
                         "; remove it first or choose another --id");
     // Read with the client's rights: the files it opened, copied to our staging folder.
     const StagedScans staged(places, image, mask, scans);
+    if (places.check_decode) {
+      std::vector<fs::path> files = {staged.image()};
+      if (!staged.mask().empty()) files.push_back(staged.mask());
+      try {
+        places.check_decode(files);
+      } catch (const BadInput& e) {
+        throw WoodError(e.what());
+      }
+    }
     // The library file is rewritten under the stock lock too: one writer at a time.
     with_stock_lock(places, [&] { add_sheet(folder, id, staged.image(), dpi, staged.mask()); });
     done = "added sheet " + id + " (" + image + ", " + std::to_string(static_cast<int>(dpi + 0.5)) + " dpi)";

@@ -22,10 +22,12 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 #include <toml++/toml.h>
 
 #include "base/error.h"
@@ -55,6 +57,9 @@ struct WoodPlaces {
   // A folder of the daemon's own where `add` copies the scans it is handed before checking
   // and adding them (created if missing; emptied of them afterwards).
   std::filesystem::path staging;
+  // Called on the staged copies (image, then the mask if any) before they are decoded here;
+  // throws to refuse them. atelierd decodes them in a child (daemon/scan_check.h). Empty: none.
+  std::function<void(const std::vector<std::filesystem::path>&)> check_decode;
 };
 
 // Runs one request ({"action": "list"|"add"|"remove"|"reset", ...}); returns its answer.

@@ -34,6 +34,9 @@
 //   atelier-convert --job-kind FILE
 //       prints the kind a job file names (the daemon asks this in a child: untrusted TOML is
 //       never parsed inside atelierd; convert/job_file_kind.h)
+//   atelier-convert --decode-check IMAGE...
+//       decodes each image (with the default limits) and exits 0, or 1 naming the file that
+//       does not decode (atelierd checks scans handed to `wood add` so: daemon/scan_check.h)
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -49,6 +52,7 @@
 #include "convert/kinds.h"
 #include "convert/common/memory_budget.h"
 #include "convert/common/display_text.h"
+#include "convert/common/image_input.h"
 #include "convert/common/job_paths.h"
 #include "convert/common/param_table.h"
 #include "convert/job_file_kind.h"
@@ -139,6 +143,18 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::cout << found.kind << "\n";
+    return 0;
+  }
+
+  if (argc >= 3 && std::string(argv[1]) == "--decode-check") {
+    for (int i = 2; i < argc; ++i) {
+      try {
+        atelier::load_image(argv[i], atelier::ImageLimits{});
+      } catch (const std::exception& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        return 1;
+      }
+    }
     return 0;
   }
 
