@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "base/error.h"
+#include "daemon/control_request.h"
 #include "daemon/log.h"
 
 namespace fs = std::filesystem;
@@ -99,19 +100,15 @@ void ControlServer::send_line(int fd, const nlohmann::json& message) {
 }
 
 void ControlServer::serve_line(int fd, const std::string& line) {
-  nlohmann::json request;
+  ControlRequest request;
   try {
-    request = nlohmann::json::parse(line);
-  } catch (const nlohmann::json::exception&) {
-    send_line(fd, {{"ok", false}, {"error", "request is not valid JSON"}});
+    request = parse_request(line);
+  } catch (const ControlError& e) {
+    send_line(fd, {{"ok", false}, {"error", e.what()}});
     return;
   }
-  if (!request.is_object() || !request.contains("verb") || !request["verb"].is_string()) {
-    send_line(fd, {{"ok", false}, {"error", "request needs a \"verb\" string"}});
-    return;
-  }
-  const std::string verb = request["verb"];
-  const nlohmann::json args = request.value("args", nlohmann::json::object());
+  const std::string& verb = request.verb;
+  const nlohmann::json& args = request.args;
   if (verb == "watch") {
     watchers_.insert(fd);
     send_line(fd, {{"ok", true}, {"result", "watching"}});
