@@ -66,15 +66,16 @@ std::string Settings::listing() const {
 
 int Settings::store(double param, double value) {
   if (value < 0.0) return kNegativeValue;
-  if (param != std::trunc(param) || param > 255) return kInvalidStatement;
+  if (param != std::trunc(param) || param < 0 || param > 255) return kInvalidStatement;
   const int id = static_cast<int>(param);
   bool known = false;
   Fmt fmt = Fmt::decimal3;
   for (const auto& e : kEntries)
     if (e.id == id) known = true, fmt = e.fmt;
   if (!known) return kInvalidStatement;
-  // Integer settings keep the truncated value (GRBL stores them in a uint8).
-  const double v = fmt == Fmt::integer ? std::trunc(value) : value;
+  // Integer settings keep the truncated value modulo 256 (GRBL stores them in a uint8), so
+  // that every later cast to int (listing, masks) is in range.
+  const double v = fmt == Fmt::integer ? std::fmod(std::trunc(value), 256.0) : value;
   switch (id) {
     case 0:
       if (v < 3) return kStepPulseMin;
