@@ -1,4 +1,6 @@
 // atelierd: the workshop fabrication daemon. See README.md and DESIGN.md.
+#include <sys/stat.h>
+
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -8,6 +10,9 @@
 #include "daemon/log.h"
 
 int main(int argc, char** argv) {
+  // Outputs, spool folders and the store are for the daemon and its group only: files 0640,
+  // folders 0750 (the systemd unit's UMask= says the same).
+  ::umask(0027);
   CLI::App app{"atelierd: turns images dropped into a hot folder into fabrication data"};
   std::string config_file = "/etc/atelier/atelierd.toml";
   bool verbose = false;

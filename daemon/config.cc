@@ -137,6 +137,7 @@ Config from_table(const toml::table& root, const std::string& source) {
         r.get_int("max_pixels", static_cast<int64_t>(c.limits.max_pixels), 1, INT64_MAX));
     c.job_timeout_s = static_cast<int>(r.get_int("job_timeout_s", 600, 1, 86400 * 7));
     c.workers = static_cast<int>(r.get_int("workers", 2, 1, 64));
+    c.job_memory_mb = static_cast<int>(r.get_int("job_memory_mb", c.job_memory_mb, 256, 1 << 20));
     r.finish();
   }
   for (const auto& kind : known_kinds()) {

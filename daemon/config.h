@@ -63,6 +63,7 @@ struct Config {
   ImageLimits limits;                // max_file_bytes, max_pixels
   int job_timeout_s = 600;           // a conversion running longer is killed and fails
   int workers = 2;                   // conversions at once
+  int job_memory_mb = 2048;          // each conversion's memory budget (address space), MB
 
   // [knit] ... : each kind's default parameters, validated, merged under each job's own.
   // The laser kinds' defaults also carry the `[laser]` table under the key "laser" (layers,

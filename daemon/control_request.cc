@@ -4,7 +4,7 @@
 
 namespace atelier {
 
-ControlRequest parse_request(const std::string& line) {
+ParsedRequest parse_request(const std::string& line) {
   // The callback sees every value's depth as it is parsed; a deep one stops the parse there,
   // before the tree (whose copies recurse per level) is built any deeper.
   auto limit = [](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
@@ -24,7 +24,7 @@ ControlRequest parse_request(const std::string& line) {
   }
   if (!request.is_object() || !request.contains("verb") || !request["verb"].is_string())
     throw ControlError("request needs a \"verb\" string");
-  ControlRequest r;
+  ParsedRequest r;
   r.verb = request["verb"].get<std::string>();
   if (auto it = request.find("args"); it != request.end()) r.args = std::move(*it);
   return r;

@@ -13,7 +13,8 @@ namespace atelier {
 // protocol's requests are at most 3 levels deep.
 inline constexpr int kMaxRequestDepth = 32;
 
-struct ControlRequest {
+// The line's part of a ControlRequest (control_server.h adds the peer and passed files).
+struct ParsedRequest {
   std::string verb;
   nlohmann::json args = nlohmann::json::object();  // "args" as sent (any type); {} when absent
 };
@@ -21,6 +22,6 @@ struct ControlRequest {
 // Throws ControlError with the message the client gets back as {"ok": false, "error": ...}:
 // "request is not valid JSON", "request is nested deeper than 32 levels", "request needs a
 // \"verb\" string".
-ControlRequest parse_request(const std::string& line);
+ParsedRequest parse_request(const std::string& line);
 
 }  // namespace atelier

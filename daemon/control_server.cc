@@ -8,6 +8,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -18,9 +19,37 @@
 namespace fs = std::filesystem;
 
 namespace atelier {
+namespace {
 
-ControlServer::ControlServer(fs::path socket_path, const std::string& group, Handler handler)
-    : path_(std::move(socket_path)), handler_(std::move(handler)) {
+constexpr size_t kMaxRequestBytes = 1u << 20;  // no request is a megabyte long
+
+void wake(int fd) {
+  uint64_t one = 1;
+  ssize_t ignored = ::write(fd, &one, sizeof one);
+  (void)ignored;
+}
+
+std::string json_line(const nlohmann::json& message) {
+  // Lenient: a reason or file name from another system need not be valid UTF-8.
+  return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+// A last word to a connection about to be closed: never waits for a client that does not read.
+void send_farewell(int fd, const std::string& error) {
+  const std::string line = json_line({{"ok", false}, {"error", error}});
+  ssize_t ignored = ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  (void)ignored;
+}
+
+bool out_of_descriptors(int err) {
+  return err == EMFILE || err == ENFILE || err == ENOBUFS || err == ENOMEM;
+}
+
+}  // namespace
+
+ControlServer::ControlServer(fs::path socket_path, const std::string& group, Handler handler,
+                             ControlLimits limits, Clock& clock)
+    : path_(std::move(socket_path)), handler_(std::move(handler)), limits_(limits), clock_(clock) {
   sockaddr_un addr{};
   addr.sun_family = AF_UNIX;
   if (path_.string().size() >= sizeof addr.sun_path)
@@ -32,7 +61,7 @@ ControlServer::ControlServer(fs::path socket_path, const std::string& group, Han
   listen_fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (listen_fd_ < 0) throw InternalError(std::string("socket: ") + strerror(errno));
   if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
-      ::listen(listen_fd_, 16) != 0) {
+      ::listen(listen_fd_, 64) != 0) {
     std::string err = strerror(errno);
     ::close(listen_fd_);
     throw InternalError(path_.string() + ": cannot listen: " + err);
@@ -56,20 +85,29 @@ ControlServer::~ControlServer() {
   fs::remove(path_, ec);
 }
 
-void ControlServer::start() { thread_ = std::thread([this] { loop(); }); }
+void ControlServer::start() {
+  {
+    std::lock_guard lock(timer_mu_);
+    timer_stop_ = false;
+  }
+  timer_thread_ = std::thread([this] { timer_loop(); });
+  thread_ = std::thread([this] { loop(); });
+}
 
 void ControlServer::stop() {
   {
     std::lock_guard lock(mu_);
     stopping_ = true;
   }
-  uint64_t one = 1;
-  ssize_t ignored = ::write(wake_fd_, &one, sizeof one);
-  (void)ignored;
+  wake(wake_fd_);
   if (thread_.joinable()) thread_.join();
-  for (auto& [fd, buf] : clients_) ::close(fd);
+  {
+    std::lock_guard lock(timer_mu_);
+    timer_stop_ = true;
+  }
+  timer_cv_.notify_all();
+  if (timer_thread_.joinable()) timer_thread_.join();
   clients_.clear();
-  watchers_.clear();
 }
 
 void ControlServer::publish(const nlohmann::json& event) {
@@ -77,14 +115,40 @@ void ControlServer::publish(const nlohmann::json& event) {
     std::lock_guard lock(mu_);
     pending_.push_back(event);
   }
-  uint64_t one = 1;
-  ssize_t ignored = ::write(wake_fd_, &one, sizeof one);
-  (void)ignored;
+  wake(wake_fd_);
+}
+
+void ControlServer::timer_loop() {
+  std::unique_lock lock(timer_mu_);
+  while (!timer_stop_) {
+    const Clock::time_point deadline = next_deadline_;
+    const bool changed = clock_.wait_until(timer_cv_, lock, deadline, [&] {
+      return timer_stop_ || next_deadline_ != deadline;
+    });
+    if (timer_stop_) return;
+    if (!changed) {
+      // The deadline passed: the loop looks at the clock and arms the next one.
+      next_deadline_ = Clock::time_point::max();
+      wake(wake_fd_);
+    }
+  }
+}
+
+void ControlServer::arm_timer() {
+  Clock::time_point next = Clock::time_point::max();
+  if (listen_paused_until_ > clock_.now()) next = listen_paused_until_;
+  for (const Client& c : clients_)
+    if (!c.watching && !c.closing) next = std::min(next, c.last_request + limits_.idle_timeout);
+  {
+    std::lock_guard lock(timer_mu_);
+    if (next == next_deadline_) return;
+    next_deadline_ = next;
+  }
+  timer_cv_.notify_all();
 }
 
 void ControlServer::send_line(int fd, const nlohmann::json& message) {
-  // Lenient: a reason or file name from another system need not be valid UTF-8.
-  std::string line = message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  const std::string line = json_line(message);
   size_t off = 0;
   while (off < line.size()) {
     ssize_t n = ::send(fd, line.data() + off, line.size() - off, MSG_NOSIGNAL);
@@ -99,23 +163,33 @@ void ControlServer::send_line(int fd, const nlohmann::json& message) {
   }
 }
 
-void ControlServer::serve_line(int fd, const std::string& line) {
+void ControlServer::serve_line(Client& client, const std::string& line, std::vector<UniqueFd> files) {
+  const int fd = client.fd.get();
   ControlRequest request;
+  request.peer = client.peer;
+  request.files = std::move(files);
+  ParsedRequest parsed;
   try {
-    request = parse_request(line);
+    parsed = parse_request(line);
   } catch (const ControlError& e) {
     send_line(fd, {{"ok", false}, {"error", e.what()}});
     return;
   }
-  const std::string& verb = request.verb;
-  const nlohmann::json& args = request.args;
-  if (verb == "watch") {
-    watchers_.insert(fd);
+  if (request.files.size() > limits_.max_files) {
+    send_line(fd, {{"ok", false},
+                   {"error", "a request may pass at most " + std::to_string(limits_.max_files) +
+                                 " open files"}});
+    return;
+  }
+  request.verb = std::move(parsed.verb);
+  request.args = std::move(parsed.args);
+  if (request.verb == "watch") {
+    client.watching = true;
     send_line(fd, {{"ok", true}, {"result", "watching"}});
     return;
   }
   try {
-    send_line(fd, {{"ok", true}, {"result", handler_(verb, args)}});
+    send_line(fd, {{"ok", true}, {"result", handler_(request)}});
   } catch (const ControlError& e) {
     send_line(fd, {{"ok", false}, {"error", e.what()}});
   } catch (const nlohmann::json::exception& e) {
@@ -125,20 +199,136 @@ void ControlServer::serve_line(int fd, const std::string& line) {
   }
 }
 
-void ControlServer::drop(int fd) {
-  watchers_.erase(fd);
-  ::close(fd);
+void ControlServer::accept_clients() {
+  for (int round = 0; round < 64; ++round) {  // then poll again: clients also want serving
+    int c = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+    if (c < 0) {
+      if (errno == EINTR || errno == ECONNABORTED) continue;
+      if (out_of_descriptors(errno)) {
+        // The connection stays in the backlog: leave the listening socket out of poll() for a
+        // while instead of finding it readable again at once, forever.
+        if (!backoff_logged_)
+          log::warning(path_.string() + ": cannot accept a connection: " + strerror(errno) +
+                       "; pausing new connections for " +
+                       std::to_string(limits_.accept_backoff.count()) + " ms at a time");
+        backoff_logged_ = true;
+        listen_paused_until_ = clock_.now() + limits_.accept_backoff;
+      }
+      return;  // EAGAIN: nothing more waiting
+    }
+    backoff_logged_ = false;
+    Client client;
+    client.fd = UniqueFd(c);
+    struct ucred cred {};
+    socklen_t len = sizeof cred;
+    if (::getsockopt(c, SOL_SOCKET, SO_PEERCRED, &cred, &len) == 0) {
+      client.peer = {cred.pid, cred.uid, cred.gid};
+    }
+    const size_t same_uid = static_cast<size_t>(std::count_if(
+        clients_.begin(), clients_.end(), [&](const Client& o) { return o.peer.uid == client.peer.uid; }));
+    if (same_uid >= limits_.per_uid) {
+      send_farewell(c, "too many connections from uid " + std::to_string(client.peer.uid) + " (at most " +
+                           std::to_string(limits_.per_uid) + "); close some and try again");
+      continue;
+    }
+    if (clients_.size() >= limits_.total) {
+      send_farewell(c, "atelierd has too many connections (at most " + std::to_string(limits_.total) +
+                           "); try again later");
+      continue;
+    }
+    client.last_request = clock_.now();
+    clients_.push_back(std::move(client));
+  }
+}
+
+bool ControlServer::read_client(Client& client) {
+  char buf[8192];
+  alignas(struct cmsghdr) char control[CMSG_SPACE(8 * sizeof(int))];
+  struct iovec iov = {buf, sizeof buf};
+  struct msghdr msg {};
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
+  ssize_t n;
+  do {
+    n = ::recvmsg(client.fd.get(), &msg, MSG_CMSG_CLOEXEC);
+  } while (n < 0 && errno == EINTR);
+  if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return true;
+  // Descriptors come with the first byte of the line they belong to.
+  for (struct cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
+    if (c->cmsg_level != SOL_SOCKET || c->cmsg_type != SCM_RIGHTS) continue;
+    const size_t count = (c->cmsg_len - CMSG_LEN(0)) / sizeof(int);
+    for (size_t i = 0; i < count; ++i) {
+      int fd;
+      std::memcpy(&fd, CMSG_DATA(c) + i * sizeof(int), sizeof fd);
+      client.files.emplace_back(client.received, UniqueFd(fd));
+    }
+  }
+  if (n <= 0) return false;
+  if (msg.msg_flags & MSG_CTRUNC) {
+    send_farewell(client.fd.get(), "a request may pass at most " + std::to_string(limits_.max_files) +
+                                       " open files");
+    return false;
+  }
+  client.received += static_cast<uint64_t>(n);
+  client.buffer.append(buf, static_cast<size_t>(n));
+  size_t nl;
+  while ((nl = client.buffer.find('\n')) != std::string::npos) {
+    const uint64_t line_start = client.received - client.buffer.size();
+    const uint64_t line_end = line_start + nl;
+    std::string line = client.buffer.substr(0, nl);
+    client.buffer.erase(0, nl + 1);
+    std::vector<UniqueFd> files;
+    auto it = client.files.begin();
+    for (; it != client.files.end() && it->first <= line_end; ++it) files.push_back(std::move(it->second));
+    client.files.erase(client.files.begin(), it);
+    if (line.empty()) continue;
+    client.last_request = clock_.now();  // a complete request: the idle time starts again
+    serve_line(client, line, std::move(files));
+  }
+  if (client.buffer.size() > kMaxRequestBytes) {
+    send_farewell(client.fd.get(), "request longer than " + std::to_string(kMaxRequestBytes) + " bytes");
+    return false;
+  }
+  if (client.files.size() > limits_.max_files) {
+    send_farewell(client.fd.get(), "a request may pass at most " + std::to_string(limits_.max_files) +
+                                       " open files");
+    return false;
+  }
+  return true;
+}
+
+void ControlServer::expire_idle() {
+  const Clock::time_point now = clock_.now();
+  for (Client& c : clients_) {
+    if (c.watching || c.closing || now < c.last_request + limits_.idle_timeout) continue;
+    send_farewell(c.fd.get(), "closed: no request within " +
+                                  std::to_string(limits_.idle_timeout.count() / 1000) + " s");
+    c.closing = true;
+  }
 }
 
 void ControlServer::loop() {
+  std::vector<struct pollfd> fds;
+  std::vector<Client*> polled;
   for (;;) {
-    std::vector<struct pollfd> fds = {{listen_fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
-    for (auto& [fd, buf] : clients_) fds.push_back({fd, POLLIN, 0});
-    if (::poll(fds.data(), fds.size(), -1) < 0 && errno != EINTR) {
+    clients_.remove_if([](const Client& c) { return c.closing; });
+    arm_timer();
+    const bool listening = clock_.now() >= listen_paused_until_;
+    fds.assign({{wake_fd_, POLLIN, 0}, {listening ? listen_fd_ : -1, POLLIN, 0}});
+    polled.clear();
+    for (Client& c : clients_) {
+      fds.push_back({c.fd.get(), POLLIN, 0});
+      polled.push_back(&c);
+    }
+    if (::poll(fds.data(), fds.size(), -1) < 0) {
+      if (errno == EINTR) continue;
       log::error(std::string("control socket poll: ") + strerror(errno));
       return;
     }
-    if (fds[1].revents & POLLIN) {
+    wakeups_.fetch_add(1);
+    if (fds[0].revents & POLLIN) {
       uint64_t n;
       ssize_t ignored = ::read(wake_fd_, &n, sizeof n);
       (void)ignored;
@@ -149,42 +339,15 @@ void ControlServer::loop() {
         events.swap(pending_);
       }
       for (const auto& ev : events)
-        for (int w : watchers_) send_line(w, {{"event", ev}});
+        for (Client& c : clients_)
+          if (c.watching && !c.closing) send_line(c.fd.get(), {{"event", ev}});
     }
-    if (fds[0].revents & POLLIN) {
-      int c = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
-      if (c >= 0) clients_.emplace_back(c, std::string());
-    }
-    std::vector<int> closed;
     for (size_t i = 2; i < fds.size(); ++i) {
       if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-      int fd = fds[i].fd;
-      auto it = std::find_if(clients_.begin(), clients_.end(),
-                             [fd](const auto& c) { return c.first == fd; });
-      char buf[8192];
-      ssize_t n = ::read(fd, buf, sizeof buf);
-      if (n <= 0) {
-        closed.push_back(fd);
-        continue;
-      }
-      it->second.append(buf, static_cast<size_t>(n));
-      if (it->second.size() > (1u << 20)) {  // no request is a megabyte long
-        closed.push_back(fd);
-        continue;
-      }
-      size_t nl;
-      while ((nl = it->second.find('\n')) != std::string::npos) {
-        std::string line = it->second.substr(0, nl);
-        it->second.erase(0, nl + 1);
-        if (!line.empty()) serve_line(fd, line);
-      }
+      if (!read_client(*polled[i - 2])) polled[i - 2]->closing = true;
     }
-    for (int fd : closed) {
-      drop(fd);
-      clients_.erase(std::remove_if(clients_.begin(), clients_.end(),
-                                    [fd](const auto& c) { return c.first == fd; }),
-                     clients_.end());
-    }
+    if (fds[1].revents & POLLIN) accept_clients();
+    expire_idle();
   }
 }
 

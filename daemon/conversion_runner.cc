@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "base/error.h"
+#include "convert/common/memory_budget.h"
 
 namespace fs = std::filesystem;
 
@@ -44,7 +45,9 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
                                    "--params",            "/dev/stdin",
                                    "--progress-fd",       "3",
                                    "--max-file-bytes",    std::to_string(task.limits.max_file_bytes),
-                                   "--max-pixels",        std::to_string(task.limits.max_pixels)};
+                                   "--max-pixels",        std::to_string(task.limits.max_pixels),
+                                   "--memory-mb",         std::to_string(memory_limit_ >> 20)};
+  if (task.check_only) args.push_back("--check");
   for (const auto& s : task.sets) {
     args.push_back("--set");
     args.push_back(s);
@@ -157,7 +160,11 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
   // The job folder moves to failed/ afterwards: name files by their own name only.
   const std::string prefix = task.output_dir.string() + "/";
   for (size_t at; (at = message.find(prefix)) != std::string::npos;) message.erase(at, prefix.size());
-  if (WIFSIGNALED(status)) {
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) {
+    // Not the runner's kill (timeout and cancel returned above): the kernel's, for memory.
+    message = memory_exceeded_reason(task.input.filename().string(), memory_limit_ >> 20) +
+              ": the converter was killed (signal 9)";
+  } else if (WIFSIGNALED(status)) {
     message = "the converter stopped with signal " + std::to_string(WTERMSIG(status)) +
               (WTERMSIG(status) == SIGKILL || WTERMSIG(status) == SIGSEGV
                    ? " (out of memory or a crash while decoding " + task.input.filename().string() + ")"

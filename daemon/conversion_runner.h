@@ -36,6 +36,9 @@ struct ConversionTask {
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> together;
   ImageLimits limits;
   std::chrono::seconds timeout{600};
+  // Only parse and check the parameters (`atelier-convert --check`): no input is read, no
+  // output written. The daemon checks a submit's --set values this way.
+  bool check_only = false;
 };
 
 struct ConversionOutcome {
@@ -54,10 +57,14 @@ class ConversionRunner {
 
 class SubprocessRunner : public ConversionRunner {
  public:
-  // `convert_exe`: path of atelier-convert. `memory_limit_bytes`: RLIMIT_AS of the child.
-  // `clock` (borrowed; must outlive the runner): what task.timeout is measured on.
+  // `convert_exe`: path of atelier-convert. `memory_limit_bytes`: the child's memory budget
+  // ([limits] job_memory_mb): its RLIMIT_AS, also passed as `--memory-mb` so that the
+  // converter reports running out as "NAME: needs more than N MB (limits.job_memory_mb)";
+  // a child killed by SIGKILL that the runner did not send (the kernel's OOM killer) fails
+  // with that reason too. `clock` (borrowed; must outlive the runner): what task.timeout is
+  // measured on.
   explicit SubprocessRunner(std::filesystem::path convert_exe,
-                            uint64_t memory_limit_bytes = 8ull << 30, Clock& clock = real_clock());
+                            uint64_t memory_limit_bytes = 2048ull << 20, Clock& clock = real_clock());
   ConversionOutcome run(const ConversionTask& task, const std::function<void(double)>& progress,
                         const std::atomic<bool>& cancel) override;
 

@@ -16,8 +16,9 @@
 #include "base/error.h"
 #include "convert/convert.h"
 #include "convert/kinds.h"
-#include "convert/common/param_table.h"
+#include "daemon/client_file.h"
 #include "daemon/job_json.h"
+#include "daemon/job_sets.h"
 #include "daemon/file_drop_device.h"
 #include "daemon/knit_device.h"
 #include "daemon/laser_device.h"
@@ -35,6 +36,11 @@ int64_t job_id_arg(const nlohmann::json& args) {
   if (!args.contains("id") || !args["id"].is_number_integer())
     throw ControlError("this request needs an integer job \"id\"");
   return args["id"].get<int64_t>();
+}
+
+// A client's own text quoted back in an error, cut so that an answer stays one short line.
+std::string shortened(const std::string& text) {
+  return text.size() <= 80 ? text : text.substr(0, 80) + "...";
 }
 
 }  // namespace
@@ -73,7 +79,8 @@ Daemon::Daemon(fs::path config_file, Config initial)
   // Parquetry's wood library and stock of used wood (Config::state_dir()).
   fs::create_directories(c.state_dir() / "wood");
   fs::create_directories(c.state_dir() / "wood-stock");
-  runner_ = std::make_unique<SubprocessRunner>(find_convert_executable());
+  runner_ = std::make_unique<SubprocessRunner>(find_convert_executable(),
+                                               static_cast<uint64_t>(c.job_memory_mb) << 20);
   scheduler_ = std::make_unique<Scheduler>(*jobs_, *runner_, [this] { return config(); });
   for (const DeviceConfig& d : c.devices) {
     DeviceWorker::PortResolver resolve;
@@ -114,9 +121,8 @@ Daemon::Daemon(fs::path config_file, Config initial)
       [this] {
         for (const auto& d : devices_) d->wake();
       });
-  control_ = std::make_unique<ControlServer>(
-      c.socket_path, c.socket_group,
-      [this](const std::string& verb, const nlohmann::json& args) { return handle(verb, args); });
+  control_ = std::make_unique<ControlServer>(c.socket_path, c.socket_group,
+                                             [this](ControlRequest& request) { return handle(request); });
 }
 
 Daemon::~Daemon() {
@@ -132,23 +138,6 @@ Daemon::~Daemon() {
 std::shared_ptr<const Config> Daemon::config() const {
   std::lock_guard lock(config_mu_);
   return config_;
-}
-
-void Daemon::claim(const fs::path& entry) {
-  try {
-    if (auto id = jobs_->claim(entry)) {
-      auto job = store_->get(*id);
-      if (job && job->state == JobState::queued) {
-        log::info("job " + std::to_string(*id) + ": picked up " + entry.string());
-        scheduler_->enqueue(*id);
-      } else if (job) {
-        log::warning("job " + std::to_string(*id) + ": " + job->reason);
-      }
-    }
-  } catch (const std::exception& e) {
-    // The file stays where it is (or in work/, adopted at the next start): nothing is lost.
-    log::error(entry.string() + ": cannot pick up: " + e.what());
-  }
 }
 
 nlohmann::json Daemon::status() {
@@ -194,7 +183,68 @@ Device& Daemon::device_of_job(int64_t id) {
   return *d;
 }
 
-nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& args) {
+void Daemon::check_sets(const std::string& kind, const std::vector<std::string>& sets) {
+  if (sets.empty()) return;
+  auto c = config();
+  ConversionTask task;
+  task.kind = kind;
+  task.input = "-";
+  task.output_dir = "-";
+  task.check_only = true;
+  task.sets = sets;
+  {
+    std::ostringstream defaults;
+    auto it = c->kind_defaults.find(kind);
+    if (it != c->kind_defaults.end()) defaults << it->second;
+    task.defaults_toml = defaults.str();
+  }
+  task.limits = c->limits;
+  task.timeout = std::chrono::seconds(10);
+  const std::atomic<bool> never{false};
+  ConversionOutcome outcome = runner_->run(task, nullptr, never);
+  if (outcome.status == ConversionOutcome::Status::ok) return;
+  if (outcome.status == ConversionOutcome::Status::timed_out)
+    throw ControlError("--set: checking the values took longer than " + std::to_string(task.timeout.count()) + " s");
+  throw ControlError(outcome.message);
+}
+
+nlohmann::json Daemon::submit(ControlRequest& request) {
+  const nlohmann::json& args = request.args;
+  const std::string path = args.at("path").get<std::string>();
+  const std::string kind = args.at("kind").get<std::string>();
+  if (!is_known_kind(kind))
+    throw ControlError("unknown kind '" + kind + "'; this build converts: " + known_kinds_text());
+  const std::string name = client_file_name(path);
+  std::vector<std::string> sets;
+  for (const auto& s : args.value("set", nlohmann::json::array())) {
+    std::string text = s.get<std::string>();
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) throw ControlError("--set " + shortened(text) + ": expected key=value");
+    // Each value becomes one argument of the converter child, and Linux takes at most 128 KiB.
+    constexpr size_t kMaxSetBytes = 65536;
+    if (text.size() > kMaxSetBytes)
+      throw ControlError("--set " + shortened(text.substr(0, eq)) + ": " + std::to_string(text.size()) +
+                         " bytes is longer than the limit of " + std::to_string(kMaxSetBytes) + " bytes");
+    sets.push_back(std::move(text));
+  }
+  // Read with the client's rights: the file it opened and passed (or, for a peer with our own
+  // rights, the path).
+  UniqueFd file = client_file(request, 0, path, "atelierctl submit FILE --kind " + kind);
+  // Refuse bad parameters now, while the user is at the terminal; TOML is parsed in the child.
+  check_sets(kind, sets);
+  int64_t id;
+  try {
+    id = jobs_->submit(file.get(), name, kind, sets_to_params(sets), config()->limits.max_file_bytes);
+  } catch (const std::runtime_error& e) {
+    throw ControlError(e.what());
+  }
+  scheduler_->enqueue(id);
+  return job_to_json(*store_->get(id));
+}
+
+nlohmann::json Daemon::handle(ControlRequest& request) {
+  const std::string& verb = request.verb;
+  const nlohmann::json& args = request.args;
   if (verb == "status") return status();
   if (verb == "list") {
     JobFilter filter;
@@ -227,39 +277,7 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     out["history"] = events_to_json(store_->history(id));
     return out;
   }
-  if (verb == "submit") {
-    const std::string path = args.at("path").get<std::string>();
-    const std::string kind = args.at("kind").get<std::string>();
-    if (!fs::path(path).is_absolute()) throw ControlError("submit needs an absolute path");
-    if (!is_known_kind(kind))
-      throw ControlError("unknown kind '" + kind + "'; this build converts: " + known_kinds_text());
-    toml::table overrides;
-    for (const auto& s : args.value("set", nlohmann::json::array())) {
-      try {
-        apply_set(overrides, s.get<std::string>());
-      } catch (const ParamError& e) {
-        throw ControlError(e.what());
-      }
-    }
-    // Refuse bad parameters now, while the user is at the terminal.
-    toml::table merged = config()->kind_defaults.at(kind);
-    merge_into(merged, overrides);
-    try {
-      validate_kind_params(kind, merged, "--set");
-    } catch (const ParamError& e) {
-      throw ControlError(e.what());
-    }
-    std::ostringstream text;
-    text << overrides;
-    int64_t id;
-    try {
-      id = jobs_->submit(path, kind, overrides.empty() ? "" : text.str());
-    } catch (const std::runtime_error& e) {
-      throw ControlError(e.what());
-    }
-    scheduler_->enqueue(id);
-    return job_to_json(*store_->get(id));
-  }
+  if (verb == "submit") return submit(request);
   if (verb == "cancel") {
     const int64_t id = job_id_arg(args);
     auto job = store_->get(id);
@@ -317,11 +335,12 @@ nlohmann::json Daemon::handle(const std::string& verb, const nlohmann::json& arg
     return job_to_json(*store_->get(id));
   }
   if (verb == "devices") return devices_json();
-  if (verb == "wood") return wood(args);
+  if (verb == "wood") return wood(request);
   throw ControlError("unknown verb '" + verb + "'");
 }
 
-nlohmann::json Daemon::wood(const nlohmann::json& args) {
+nlohmann::json Daemon::wood(ControlRequest& request) {
+  const nlohmann::json& args = request.args;
   auto c = config();
   const KindInfo* wood_kind = nullptr;
   for (const KindInfo& k : kinds())
@@ -339,8 +358,18 @@ nlohmann::json Daemon::wood(const nlohmann::json& args) {
     if (auto job = store_->get(id); job && job->kind == wood_kind->name)
       busy += (busy.empty() ? "job " : ", ") + std::to_string(id);
   places.busy_hint = busy.empty() ? "" : busy + " being planned";
+  places.staging = c->state_dir() / ".wood-add";
+  WoodScans scans;
+  if (args.value("action", "") == "add") {
+    // Read with the client's rights, like submit: image first, then the mask.
+    const std::string usage = "atelierctl wood add IMAGE";
+    if (args.contains("image") && args["image"].is_string())
+      scans.image = client_file(request, 0, args["image"].get<std::string>(), usage);
+    if (args.contains("mask") && args["mask"].is_string())
+      scans.mask = client_file(request, 1, args["mask"].get<std::string>(), usage);
+  }
   try {
-    return wood_request(places, args);
+    return wood_request(places, args, std::move(scans));
   } catch (const WoodError& e) {
     throw ControlError(e.what());
   }
@@ -378,6 +407,7 @@ int Daemon::run() {
   const auto cfg = config();
   // Watch before scanning, so nothing dropped in between is missed.
   hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
+  pickup_ = std::make_unique<Pickup>(*hot_folder_, *jobs_, [this](int64_t id) { scheduler_->enqueue(id); });
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
   scheduler_->start(cfg->workers);
   for (auto& d : devices_) static_cast<DeviceWorker&>(*d).start_worker();
@@ -392,7 +422,7 @@ int Daemon::run() {
       usb_monitor_.reset();
     }
   }
-  for (const auto& entry : hot_folder_->scan()) claim(entry);
+  pickup_->scan();
   control_->start();
 
   uint64_t watchdog_usec = 0;
@@ -412,6 +442,8 @@ int Daemon::run() {
     if (hot_folder_->fd() >= 0) fds.push_back({hot_folder_->fd(), POLLIN, 0});
     auto timeout = hot_folder_->fd() >= 0 ? tick : std::min<std::chrono::milliseconds>(
                                                        tick, hot_folder_->poll_interval());
+    if (auto retry = pickup_->next_retry_in())  // a pick-up waiting to be tried again
+      timeout = std::min(timeout, std::chrono::ceil<std::chrono::milliseconds>(*retry));
     if (::poll(fds.data(), fds.size(), static_cast<int>(timeout.count())) < 0 && errno != EINTR) {
       log::error(std::string("poll: ") + strerror(errno));
       break;
@@ -429,7 +461,7 @@ int Daemon::run() {
       }
     }
     if (!running) break;
-    for (const auto& entry : hot_folder_->collect()) claim(entry);
+    pickup_->step();
     if (clock::now() >= next_tick) {
       next_tick = clock::now() + tick;
       if (watchdog) sd_notify(0, "WATCHDOG=1");
@@ -438,6 +470,7 @@ int Daemon::run() {
   }
   sd_notify(0, "STOPPING=1");
   log::info("stopping: no new jobs; conversions in progress are re-queued");
+  pickup_.reset();
   hot_folder_.reset();
   if (usb_monitor_) usb_monitor_->stop();
   scheduler_->stop();

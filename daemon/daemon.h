@@ -18,6 +18,7 @@
 #include "daemon/device.h"
 #include "daemon/hot_folder.h"
 #include "daemon/job_service.h"
+#include "daemon/pickup.h"
 #include "daemon/scheduler.h"
 #include "daemon/store.h"
 #include "drivers/usb_hotplug.h"
@@ -35,13 +36,17 @@ class Daemon {
   int run();
 
  private:
-  nlohmann::json handle(const std::string& verb, const nlohmann::json& args);
+  nlohmann::json handle(ControlRequest& request);
   nlohmann::json status();
-  nlohmann::json wood(const nlohmann::json& args);  // the `wood` verb (wood_service.h)
+  // `submit`: the file read from the client's descriptor (client_file.h), the --set values
+  // checked by an `atelier-convert --check` child and stored unparsed (job_sets.h).
+  nlohmann::json submit(ControlRequest& request);
+  // Refuses bad --set values with the checker child's reason (ControlError).
+  void check_sets(const std::string& kind, const std::vector<std::string>& sets);
+  nlohmann::json wood(ControlRequest& request);  // the `wood` verb (wood_service.h)
   nlohmann::json devices_json() const;
   Device* device_for(const Job& job) const;
   Device& device_of_job(int64_t id);
-  void claim(const std::filesystem::path& entry);
   void reload();
   void notify_status();
   std::shared_ptr<const Config> config() const;
@@ -58,6 +63,7 @@ class Daemon {
   std::unique_ptr<SubprocessRunner> runner_;
   std::unique_ptr<Scheduler> scheduler_;
   std::unique_ptr<HotFolder> hot_folder_;
+  std::unique_ptr<Pickup> pickup_;  // claims what hot_folder_ reports, retries transient failures
   std::vector<std::unique_ptr<Device>> devices_;  // one worker each, from [[device]]
   // Wakes the devices when a USB device comes or goes (only when a device is found by USB id),
   // so plugging a machine in brings it online at once.

@@ -1,6 +1,7 @@
 #include "daemon/hot_folder.h"
 
 #include <sys/inotify.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -120,10 +121,14 @@ std::vector<fs::path> HotFolder::collect_inotify() {
       if (ev->mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) {
         out.push_back(path);
       } else if (ev->mask & IN_CREATE) {
-        // Symlinks and folders never get a close-after-write: report them when they appear.
-        std::error_code ec;
-        auto st = fs::symlink_status(path, ec);
-        if (!ec && (fs::is_symlink(st) || fs::is_directory(st))) out.push_back(path);
+        // Entries that never get a close-after-write are reported when they appear: symlinks,
+        // folders, FIFOs, sockets (the claim fails each with a reason), and hard links (a
+        // regular file with more than one link arrived complete: link(2) writes nothing). A
+        // regular file with one link is being written by whoever created it: its
+        // close-after-write reports it.
+        struct stat st;
+        if (::lstat(path.c_str(), &st) == 0 && (!S_ISREG(st.st_mode) || st.st_nlink > 1))
+          out.push_back(path);
       }
     }
   }

@@ -1,5 +1,6 @@
-// Watches <spool>/incoming for complete files: inotify (close-after-write, moved-into,
-// created symlinks and folders) or polling for network shares (complete = size and mtime
+// Watches <spool>/incoming for complete files: inotify (close-after-write, moved-into, and
+// on creation: symlinks, folders, FIFOs, sockets and hard links, which never get a
+// close-after-write) or polling for network shares (complete = size and mtime
 // unchanged for settle_ms). Reports candidates; it never moves anything (claiming is the
 // JobService's job).
 //

@@ -1,6 +1,8 @@
 #include "daemon/job_service.h"
 
 #include <fcntl.h>
+#include <stdio.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -8,11 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
+#include <system_error>
 
 #include "base/error.h"
 #include "convert/convert.h"
 #include "convert/kinds.h"
+#include "daemon/client_file.h"
 #include "daemon/log.h"
 
 namespace fs = std::filesystem;
@@ -32,14 +35,25 @@ std::string json_text(const nlohmann::json& j) {
 }
 
 // Writes a small file and fsyncs it, so it exists before the next step of a claim.
+// Throws std::system_error (the errno, naming the file) so that a claim can tell a full
+// disk or a lack of descriptors (retried) from a lasting failure.
 void write_durable(const fs::path& file, const std::string& text) {
   int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw InternalError(file.string() + ": cannot write: " + strerror(errno));
+  if (fd < 0) throw std::system_error(errno, std::generic_category(), file.string() + ": cannot write");
   ssize_t n = ::write(fd, text.data(), text.size());
+  const int err = n < 0 ? errno : ENOSPC;
   ::fsync(fd);
   ::close(fd);
   if (n != static_cast<ssize_t>(text.size()))
-    throw InternalError(file.string() + ": short write");
+    throw std::system_error(err, std::generic_category(), file.string() + ": cannot write");
+}
+
+// Replaces `file` atomically (a temporary beside it, fsynced, renamed over it).
+void replace_durable(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.parent_path() / ("." + file.filename().string() + ".new");
+  write_durable(tmp, text);
+  if (::rename(tmp.c_str(), file.c_str()) != 0)
+    throw std::system_error(errno, std::generic_category(), file.string() + ": cannot replace");
 }
 
 void fsync_dir(const fs::path& dir) {
@@ -57,49 +71,88 @@ std::string read_text(const fs::path& file) {
   return buf.str();
 }
 
-// Why an entry found in incoming/ can never be converted, or "" if it can.
-std::string classify(const SpoolLayout& layout, const fs::path& entry, std::string& kind) {
-  const std::string name = entry.filename().string();
-  const fs::path parent = entry.parent_path();
-  std::error_code ec;
-  auto st = fs::symlink_status(entry, ec);
-  if (fs::is_symlink(st))
-    return name + ": symbolic links are not accepted in the hot folder; copy the file instead";
-  if (fs::is_directory(st))
-    return name + ": folders are not accepted in incoming/" +
-           (parent == layout.incoming() ? "" : parent.filename().string() + "/") +
-           "; drop the files themselves";
-  if (!fs::is_regular_file(st)) return name + ": not a regular file";
-  if (parent == layout.incoming()) {
-    if (entry.extension() != ".toml") {
-      return name + ": files must be dropped into incoming/<kind>/ (kinds: " +
-             known_kinds_text() + "); job files NAME.toml name their kind inside";
-    }
-    try {
-      toml::table t = toml::parse_file(entry.string());
-      auto k = t["kind"].value<std::string>();
-      if (!k) return name + ": a job file needs kind = \"...\"";
-      kind = *k;
-    } catch (const toml::parse_error& e) {
-      return name + ":" + std::to_string(e.source().begin.line) + ": " +
-             std::string(e.description());
-    }
-    if (!is_known_kind(kind)) return name + ": unknown kind '" + kind + "'";
-    if (converts_job_file(kind)) return "";
-    return name + ": kind '" + kind + "' converts an image: drop the image into incoming/" +
-           kind + "/ (with an optional sidecar NAME.EXT.toml)";
+// "incoming/" or "incoming/<folder>/", for messages.
+std::string place_of(const std::string& folder) {
+  return "incoming/" + (folder.empty() ? "" : folder + "/");
+}
+
+// Why a claimed entry is not a regular file the daemon can read ("" when it is). The entry is
+// opened without following a symlink and without blocking (a FIFO), and the opened
+// descriptor is examined, so what is checked is what is there. `shown` names it in messages.
+// Throws std::system_error for a transient failure (no descriptors, no memory).
+std::string file_type_problem(const fs::path& claimed, const std::string& shown, const std::string& folder) {
+  const int fd = ::open(claimed.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ELOOP) return shown + ": symbolic links are not accepted in the hot folder; copy the file instead";
+    if (err == ENXIO) return shown + ": not a regular file";  // a socket
+    if (is_transient_errno(err))
+      throw std::system_error(err, std::generic_category(), claimed.string() + ": cannot open");
+    return shown + ": cannot read: " + strerror(err);
   }
-  kind = parent.filename().string();
-  if (!is_known_kind(kind))
-    return name + ": unknown kind '" + kind + "' (folder incoming/" + kind +
-           "/); this build converts: " + known_kinds_text();
+  struct stat st;
+  const int rc = ::fstat(fd, &st);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0) throw std::system_error(err, std::generic_category(), claimed.string() + ": cannot stat");
+  if (S_ISDIR(st.st_mode))
+    return shown + ": folders are not accepted in " + place_of(folder) + "; drop the files themselves";
+  if (S_ISFIFO(st.st_mode))
+    return shown + ": a FIFO (named pipe) is not a regular file; drop the file itself";
+  if (!S_ISREG(st.st_mode)) return shown + ": not a regular file";
   return "";
 }
 
 }  // namespace
 
-JobService::JobService(Store& store, SpoolLayout layout, ChangeListener on_change)
-    : store_(store), layout_(std::move(layout)), on_change_(std::move(on_change)) {}
+bool is_transient_errno(int err) {
+  switch (err) {
+    case EMFILE: case ENFILE: case ENOMEM: case ENOSPC: case EDQUOT: case EAGAIN: case EINTR:
+    case EBUSY: case ENOBUFS: case ETXTBSY:
+      return true;
+    default:
+      return false;
+  }
+}
+
+JobService::JobService(Store& store, SpoolLayout layout, ChangeListener on_change, JobKindProbe probe)
+    : store_(store),
+      layout_(std::move(layout)),
+      on_change_(std::move(on_change)),
+      probe_(probe ? std::move(probe) : subprocess_job_kind_probe()) {}
+
+JobService::Examined JobService::examine(const fs::path& work, const std::string& name,
+                                         const std::string& folder) const {
+  const fs::path claimed = work / name;
+  if (std::string problem = file_type_problem(claimed, name, folder); !problem.empty()) return {"", problem};
+  if (folder.empty()) {
+    if (claimed.extension() != ".toml")
+      return {"", name + ": files must be dropped into incoming/<kind>/ (kinds: " + known_kinds_text() +
+                      "); job files NAME.toml name their kind inside"};
+    // Untrusted TOML: read in a child (daemon/job_kind_probe.h), never in the daemon.
+    JobFileKind found = probe_(claimed, name);
+    if (!found.problem.empty()) return {"", found.problem};
+    if (!is_known_kind(found.kind) || !converts_job_file(found.kind))
+      return {"", name + ": the job file's kind could not be read"};
+    return {found.kind, ""};
+  }
+  if (!is_known_kind(folder))
+    return {folder, name + ": unknown kind '" + folder + "' (folder incoming/" + folder +
+                        "/); this build converts: " + known_kinds_text()};
+  return {folder, ""};
+}
+
+std::string JobService::examine_companions(const fs::path& work, const std::string& name) const {
+  std::error_code ec;
+  for (const std::string& suffix : companion_suffixes()) {
+    const fs::path companion = work / (name + suffix);
+    if (!fs::exists(fs::symlink_status(companion, ec))) continue;
+    const std::string shown = name + suffix + (suffix == ".toml" ? " (the sidecar of " : " (a companion of ") + name + ")";
+    const std::string problem = file_type_problem(companion, shown, "");
+    if (!problem.empty()) return problem + "; both files are kept in failed/";
+  }
+  return "";
+}
 
 void JobService::ensure_layout() const {
   for (const auto& kind : known_kinds()) fs::create_directories(layout_.incoming(kind));
@@ -116,63 +169,113 @@ void JobService::insert(const Job& job) {
 std::optional<int64_t> JobService::claim(const fs::path& entry) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(entry, ec))) return std::nullopt;
-  std::string kind;
-  const std::string problem = classify(layout_, entry, kind);
   const std::string name = entry.filename().string();
+  const fs::path parent = entry.parent_path();
+  // Only the place it was dropped is known before the claim; what it is, is examined after.
+  const std::string folder = parent == layout_.incoming() ? "" : parent.filename().string();
 
-  const int64_t id = store_.reserve_id();
-  const fs::path work = layout_.work(id);
-  fs::create_directories(work);
-  write_durable(work / kClaimFile,
-                json_text({{"kind", kind}, {"name", name}, {"problem", problem}}));
-  if (::rename(entry.c_str(), (work / name).c_str()) != 0) {
-    int err = errno;
-    fs::remove_all(work, ec);
-    if (err == ENOENT) return std::nullopt;  // vanished before we got it: not ours to log
-    throw InternalError(entry.string() + ": cannot claim: " + strerror(err));
-  }
-  if (problem.empty()) {
-    for (const std::string& suffix : companion_suffixes()) {
-      fs::path companion = entry.parent_path() / (name + suffix);
-      if (fs::exists(fs::symlink_status(companion, ec)))
-        ::rename(companion.c_str(), (work / (name + suffix)).c_str());
+  fs::path work;
+  std::vector<std::pair<fs::path, fs::path>> moved;  // (where it was in incoming/, where it is now)
+  // Undoes a claim cut off before its row: every moved entry back into incoming/ (never over
+  // a file dropped since), then the folder. Whatever cannot go back stays with claim.json in
+  // work/<id>, adopted at the next start.
+  auto roll_back = [&] {
+    std::error_code e;
+    for (auto it = moved.rbegin(); it != moved.rend(); ++it) {
+      if (::renameat2(AT_FDCWD, it->second.c_str(), AT_FDCWD, it->first.c_str(), RENAME_NOREPLACE) != 0) {
+        log::error(it->second.string() + ": cannot move back to " + it->first.string() + ": " +
+                   strerror(errno) + "; adopted at the next start");
+        return;
+      }
     }
-  }
-  fsync_dir(work);
+    if (!work.empty()) fs::remove_all(work, e);
+  };
   Job job;
-  job.id = id;
-  job.kind = kind;
-  job.name = name;
-  job.state = JobState::queued;
-  job.reason = problem.empty() ? "dropped into the hot folder" : "rejected at pick-up";
-  job.work_dir = work.string();
-  insert(job);
-  if (!problem.empty()) fail(id, problem);
-  return id;
+  try {
+    const int64_t id = store_.reserve_id();
+    work = layout_.work(id);
+    fs::create_directories(work);
+    write_durable(work / kClaimFile,
+                  json_text({{"kind", folder}, {"name", name}, {"folder", folder}, {"examined", false}}));
+    step("intent");
+    if (::rename(entry.c_str(), (work / name).c_str()) != 0) {
+      const int err = errno;
+      if (err == ENOENT) {
+        fs::remove_all(work, ec);
+        return std::nullopt;  // vanished before we got it: not ours to log
+      }
+      throw std::system_error(err, std::generic_category(), "cannot claim");
+    }
+    moved.emplace_back(entry, work / name);
+    step("claimed");
+    Examined found = examine(work, name, folder);
+    if (found.problem.empty()) {
+      for (const std::string& suffix : companion_suffixes()) {
+        const fs::path companion = parent / (name + suffix);
+        if (!fs::exists(fs::symlink_status(companion, ec))) continue;
+        if (::rename(companion.c_str(), (work / (name + suffix)).c_str()) != 0) {
+          if (errno == ENOENT) continue;
+          throw std::system_error(errno, std::generic_category(), companion.string() + ": cannot claim");
+        }
+        moved.emplace_back(companion, work / (name + suffix));
+      }
+      found.problem = examine_companions(work, name);
+    }
+    replace_durable(work / kClaimFile, json_text({{"kind", found.kind},
+                                                  {"name", name},
+                                                  {"folder", folder},
+                                                  {"problem", found.problem},
+                                                  {"examined", true}}));
+    fsync_dir(work);
+    step("examined");
+    job.id = id;
+    job.kind = found.kind;
+    job.name = name;
+    job.state = JobState::queued;
+    job.reason = found.problem.empty() ? "dropped into the hot folder" : "rejected at pick-up";
+    job.work_dir = work.string();
+    store_.insert_job(job);
+    job.reason = found.problem;  // the problem, for below
+  } catch (const std::system_error& e) {
+    roll_back();
+    throw PickupError(entry.string() + ": cannot pick up: " + e.what(), is_transient_errno(e.code().value()));
+  } catch (const std::exception& e) {
+    // The store (SQLite busy, disk full, no descriptors): worth another try.
+    roll_back();
+    throw PickupError(entry.string() + ": cannot pick up: " + e.what(), true);
+  }
+  const std::string problem = job.reason;
+  if (on_change_) on_change_({*store_.get(job.id), "", state_name(JobState::queued), job.reason});
+  if (!problem.empty()) fail(job.id, problem);
+  return job.id;
 }
 
-int64_t JobService::submit(const fs::path& file, const std::string& kind,
-                           const std::string& overrides) {
+int64_t JobService::submit(int fd, const std::string& name, const std::string& kind,
+                           const std::string& params, uint64_t max_bytes) {
   if (!is_known_kind(kind))
     throw BadInput("unknown kind '" + kind + "'; this build converts: " +
                              known_kinds_text());
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec))
-    throw BadInput(file.string() + ": not a readable regular file");
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
+    throw BadInput("'" + name + "' is not a file name");
   const int64_t id = store_.reserve_id();
   const fs::path work = layout_.work(id);
   fs::create_directories(work);
-  const std::string name = file.filename().string();
   // The copy is complete before claim.json exists: recover() drops a folder without one, so a
   // crash mid-copy leaves no half file behind as a job.
-  fs::copy_file(file, work / (".copy-" + name), fs::copy_options::overwrite_existing, ec);
-  if (!ec) fs::rename(work / (".copy-" + name), work / name, ec);
+  std::error_code ec;
+  try {
+    copy_client_file(fd, name, work / (".copy-" + name), max_bytes);
+  } catch (const std::exception&) {
+    fs::remove_all(work, ec);
+    throw;
+  }
+  fs::rename(work / (".copy-" + name), work / name, ec);
   if (ec) {
     fs::remove_all(work);
-    throw InternalError(file.string() + ": cannot copy: " + ec.message());
+    throw InternalError(name + ": cannot copy: " + ec.message());
   }
   write_durable(work / kClaimFile,
-                json_text({{"kind", kind}, {"name", name}, {"problem", ""}, {"params", overrides}}));
+                json_text({{"kind", kind}, {"name", name}, {"problem", ""}, {"params", params}}));
   fsync_dir(work);
   Job job;
   job.id = id;
@@ -180,7 +283,7 @@ int64_t JobService::submit(const fs::path& file, const std::string& kind,
   job.name = name;
   job.reason = "submitted with atelierctl";
   job.work_dir = work.string();
-  job.params = overrides;
+  job.params = params;
   insert(job);
   return id;
 }
@@ -342,8 +445,21 @@ std::vector<int64_t> JobService::recover() {
     job.params = claim.value("params", "");
     job.reason = "recovered after a restart";
     job.work_dir = entry.path().string();
+    std::string problem = claim.value("problem", "");
+    if (!claim.value("examined", true)) {
+      // Cut off between the rename and the examination: examine what was claimed now.
+      try {
+        Examined found = examine(entry.path(), job.name, claim.value("folder", ""));
+        if (found.problem.empty()) found.problem = examine_companions(entry.path(), job.name);
+        job.kind = found.kind;
+        problem = found.problem;
+      } catch (const std::exception& e) {
+        log::error(entry.path().string() + ": cannot examine the claimed " + job.name + ": " + e.what() +
+                   "; adopted at the next start");
+        continue;
+      }
+    }
     insert(job);
-    const std::string problem = claim.value("problem", "");
     if (!problem.empty()) fail(id, problem);
     log::info("job " + dir + ": adopted claimed file " + job.name + " after a restart");
   }

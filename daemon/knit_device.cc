@@ -17,6 +17,10 @@ namespace fs = std::filesystem;
 namespace atelier {
 namespace {
 
+// DTR low this long resets an Arduino (its auto-reset takes the edge; avrdude and pyserial
+// users hold it 50-250 ms).
+constexpr std::chrono::milliseconds kDtrResetPulse{100};
+
 // How the user continues a job that stopped after `rows_done` rows; `in_progress` is the
 // note on a lace row stopped part way ("" when none was).
 std::string resume_hint(int64_t id, int rows_done, const std::string& in_progress = "") {
@@ -225,6 +229,18 @@ void KnitDevice::knit(const Work& work) {
     ayab::HostSession session(*link, timeouts_, clock_);
     session.connect();
     session.init(plan.machine);
+    try {
+      session.start(plan);
+    } catch (const ayab::StartRefused& e) {
+      if (!e.wrong_state()) throw;
+      // A board that was not reset (e.g. still knitting for a daemon that crashed): reset it
+      // through DTR and go through the handshake once more. Refused again: the job fails.
+      log::info(job_tag(id) + ": " + e.what() + "; resetting the board (DTR) and trying once more");
+      link->pulse_dtr(kDtrResetPulse);
+      session.connect();
+      session.init(plan.machine);
+      session.start(plan);
+    }
     {
       std::lock_guard lock(mu_);
       waiting_link_ = nullptr;

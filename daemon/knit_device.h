@@ -15,6 +15,11 @@
 // silent: "device disconnected after row N"; `resume --from-row` continues; a lace chart row
 // stopped between its passes is named, as its stitches may be moved but not knitted) | failed (the
 // pattern does not fit, the firmware is too old, ...).
+// A board that refuses to start in the wrong state (not reset when the port opened, e.g. still
+// knitting for a daemon that was killed, on a board whose DTR auto-reset is disabled) is reset
+// once through DTR (Transport::pulse_dtr) and the handshake repeated; refused again, the job
+// fails within seconds: "<device>: the knitting machine refused to start: <error and state>;
+// reset it ... and retry the job".
 // Online/offline: the port is watched while idle (its device node exists, or the USB device
 // maps to a tty); it is only opened for a job, since opening resets an Arduino.
 //

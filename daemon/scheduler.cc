@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "convert/kinds.h"
+#include "daemon/job_sets.h"
 #include "daemon/log.h"
 
 namespace atelier {
@@ -193,14 +194,8 @@ void Scheduler::convert_one(int64_t id) {
     if (it != config->kind_defaults.end()) defaults << it->second;
     task.defaults_toml = defaults.str();
   }
-  if (!job.params.empty()) {
-    toml::table overrides = toml::parse(job.params);
-    for (const auto& [k, v] : overrides) {
-      std::ostringstream value;
-      v.visit([&value](const auto& node) { value << node; });
-      task.sets.push_back(std::string(k.str()) + "=" + value.str());
-    }
-  }
+  // The job's --set strings go to the converter as given: the daemon parses no TOML of a job.
+  task.sets = params_to_sets(job.params);
   task.limits = config->limits;
   task.timeout = std::chrono::seconds(config->job_timeout_s) * static_cast<int64_t>(batch.size());
 

@@ -11,6 +11,7 @@
 
 #include "convert/common/param_table.h"
 #include "convert/parquetry/parquetry_params.h"
+#include "daemon/client_file.h"
 #include "inventory/stock_store.h"
 #include "inventory/wood_library.h"
 
@@ -159,7 +160,44 @@ const fs::path& folder_for_change(const Wood& wood) {
 
 }  // namespace
 
-nlohmann::json wood_request(const WoodPlaces& places, const nlohmann::json& args) {
+// The client's scan (and mask) copied into places.staging, removed again when it dies.
+class StagedScans {
+ public:
+  StagedScans(const WoodPlaces& places, const std::string& image, const std::string& mask, WoodScans& scans) {
+    if (!scans.image.valid()) throw WoodError("wood add: the scan " + image + " was not passed");
+    if (!mask.empty() && !scans.mask.valid()) throw WoodError("wood add: the mask " + mask + " was not passed");
+    // Under the client's own file names (messages name them), one folder each.
+    image_ = stage(places, "scan", image, scans.image.get());
+    try {
+      if (!mask.empty()) mask_ = stage(places, "mask", mask, scans.mask.get());
+    } catch (...) {
+      std::error_code ec;
+      fs::remove(image_, ec);
+      throw;
+    }
+  }
+  ~StagedScans() {
+    std::error_code ec;
+    if (!image_.empty()) fs::remove(image_, ec);
+    if (!mask_.empty()) fs::remove(mask_, ec);
+  }
+  const fs::path& image() const { return image_; }
+  static fs::path stage(const WoodPlaces& places, const char* what, const std::string& path, int fd) {
+    const std::string name = client_file_name(path);
+    std::error_code ec;
+    fs::create_directories(places.staging / what, ec);
+    if (ec) throw WoodError((places.staging / what).string() + ": cannot create: " + ec.message());
+    const fs::path dest = places.staging / what / name;
+    copy_client_file(fd, name, dest, places.limits.max_file_bytes);
+    return dest;
+  }
+  const fs::path& mask() const { return mask_; }
+
+ private:
+  fs::path image_, mask_;
+};
+
+nlohmann::json wood_request(const WoodPlaces& places, const nlohmann::json& args, WoodScans scans) {
   const std::string action = text_arg(args, "action", true);
   if (action == "list") {
     const Wood wood = read_wood(places);
@@ -195,8 +233,10 @@ nlohmann::json wood_request(const WoodPlaces& places, const nlohmann::json& args
       if (e.id == id)
         throw WoodError("a sheet '" + id + "' is already in " + folder.string() +
                         "; remove it first or choose another --id");
+    // Read with the client's rights: the files it opened, copied to our staging folder.
+    const StagedScans staged(places, image, mask, scans);
     // The library file is rewritten under the stock lock too: one writer at a time.
-    with_stock_lock(places, [&] { add_sheet(folder, id, image, dpi, mask); });
+    with_stock_lock(places, [&] { add_sheet(folder, id, staged.image(), dpi, staged.mask()); });
     done = "added sheet " + id + " (" + image + ", " + std::to_string(static_cast<int>(dpi + 0.5)) + " dpi)";
   } else if (action == "remove") {
     const std::string id = text_arg(args, "id", true);

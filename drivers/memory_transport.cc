@@ -14,6 +14,7 @@ struct MemoryTransport::Shared {
   std::condition_variable_any changed;
   std::deque<uint8_t> input[2];  // input[i]: bytes waiting to be read by end i
   bool lost = false;
+  int dtr_pulses[2] = {0, 0};  // pulse_dtr() calls by each end
 };
 
 MemoryTransport::MemoryTransport(std::shared_ptr<Shared> shared, int side)
@@ -45,6 +46,18 @@ size_t MemoryTransport::read(uint8_t* data, size_t max, std::chrono::millisecond
 void MemoryTransport::flush_input() {
   std::lock_guard lock(shared_->mutex);
   shared_->input[side_].clear();
+}
+
+void MemoryTransport::pulse_dtr(std::chrono::milliseconds) {
+  std::lock_guard lock(shared_->mutex);
+  if (shared_->lost) throw LinkLost("memory link: disconnected");
+  shared_->input[side_].clear();
+  ++shared_->dtr_pulses[side_];
+}
+
+int MemoryTransport::dtr_pulses() const {
+  std::lock_guard lock(shared_->mutex);
+  return shared_->dtr_pulses[side_];
 }
 
 void MemoryTransport::close() { disconnect(); }

@@ -24,6 +24,10 @@ class MemoryTransport : public Transport {
   void write(const uint8_t* data, size_t size) override;
   size_t read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) override;
   void flush_input() override;
+  // Discards this end's unread input and counts the pulse (dtr_pulses()); nothing is reset
+  // at the other end, which is a test's own code. Returns at once.
+  void pulse_dtr(std::chrono::milliseconds low) override;
+  int dtr_pulses() const;
   // Closes this end: its blocked read wakes and throws LinkLost; the peer sees the link lost.
   void close() override;
   // Simulates unplugging: both ends throw LinkLost from now on.

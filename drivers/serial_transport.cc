@@ -13,6 +13,7 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <thread>
 
 #include "base/error.h"
 
@@ -76,6 +77,26 @@ int open_with_termios(const std::string& path) {
   return fd;
 }
 
+// Exclusive use, non-blocking, close-on-exec and HUPCL on an open port; returns "" or what
+// failed (with errno's text).
+std::string finish_setup(int fd) {
+  // Exclusive use: a second opener (other than root) gets EBUSY while we hold the port.
+  if (ioctl(fd, TIOCEXCL) != 0) return "cannot lock serial port: " + errno_text(errno);
+  const int flags = fcntl(fd, F_GETFL);
+  fcntl(fd, F_SETFL, flags | O_NONBLOCK);
+  // libserialport opens without O_CLOEXEC: converter children must not inherit the machine.
+  fcntl(fd, F_SETFD, fcntl(fd, F_GETFD) | FD_CLOEXEC);
+  // Hang up on close: the last close (also the kernel's, when the daemon is killed) drops DTR,
+  // so an Arduino wired to reset on it does, and the next open's DTR edge resets any Uno. A
+  // port left with -hupcl (`stty -hupcl`, or another program before us) would keep DTR up
+  // after the close, and the next open would not reset the board.
+  termios t{};
+  if (tcgetattr(fd, &t) != 0) return "not a serial port: " + errno_text(errno);
+  t.c_cflag |= HUPCL;
+  if (tcsetattr(fd, TCSANOW, &t) != 0) return "cannot set HUPCL: " + errno_text(errno);
+  return "";
+}
+
 }  // namespace
 
 std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path) {
@@ -95,16 +116,10 @@ std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path) 
       ::close(fd);
     }
   };
-  // Exclusive use: a second opener (other than root) gets EBUSY while we hold the port.
-  if (ioctl(fd, TIOCEXCL) != 0) {
-    const int e = errno;
+  if (const std::string problem = finish_setup(fd); !problem.empty()) {
     release();
-    throw DeviceError(path + ": cannot lock serial port: " + errno_text(e));
+    throw DeviceError(path + ": " + problem);
   }
-  const int flags = fcntl(fd, F_GETFL);
-  fcntl(fd, F_SETFL, flags | O_NONBLOCK);
-  // libserialport opens without O_CLOEXEC: converter children must not inherit the machine.
-  fcntl(fd, F_SETFD, fcntl(fd, F_GETFD) | FD_CLOEXEC);
   const int wake = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
   if (wake < 0) {
     const int e = errno;
@@ -181,6 +196,54 @@ size_t SerialTransport::read(uint8_t* data, size_t max, std::chrono::millisecond
 void SerialTransport::flush_input() {
   if (closed_) lost("closed");
   tcflush(fd_, TCIFLUSH);
+}
+
+void SerialTransport::pulse_dtr(std::chrono::milliseconds low) {
+  if (closed_) lost("closed");
+  int lines = TIOCM_DTR | TIOCM_RTS;
+  if (ioctl(fd_, TIOCMBIC, &lines) == 0) {
+    std::this_thread::sleep_for(low);
+    if (ioctl(fd_, TIOCMBIS, &lines) != 0) lost("cannot raise DTR again: " + errno_text(errno));
+    tcflush(fd_, TCIFLUSH);
+    return;
+  }
+  if (errno != ENOTTY && errno != EINVAL) lost("cannot drop DTR: " + errno_text(errno));
+  // No modem lines (a pseudo-terminal): hang up by closing the port, then open it again. The
+  // descriptor number stays valid throughout (/dev/null stands in), so nothing ever touches a
+  // reused number.
+  ioctl(fd_, TIOCNXCL);
+  const int null_fd = ::open("/dev/null", O_RDWR | O_CLOEXEC);
+  if (null_fd < 0 || ::dup3(null_fd, fd_, O_CLOEXEC) < 0) {
+    const int e = errno;
+    if (null_fd >= 0) ::close(null_fd);
+    lost("cannot hang up: " + errno_text(e));
+  }
+  ::close(null_fd);
+  std::this_thread::sleep_for(low);
+  // The port may take a moment to come back (an emulator clearing up after the hang-up).
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  for (;;) {
+    if (closed_) lost("closed");
+    try {
+      const int fresh = open_with_termios(path_);
+      const std::string problem = finish_setup(fresh);
+      if (!problem.empty()) {
+        ::close(fresh);
+        lost(problem);
+      }
+      const int moved = ::dup3(fresh, fd_, O_CLOEXEC);
+      const int e = errno;
+      ::close(fresh);
+      if (moved < 0) lost("cannot reopen after the hang-up: " + errno_text(e));
+      tcflush(fd_, TCIFLUSH);
+      return;
+    } catch (const LinkLost&) {
+      if (std::chrono::steady_clock::now() >= give_up) throw;
+    } catch (const DeviceError& e) {  // busy
+      if (std::chrono::steady_clock::now() >= give_up) lost(std::string("cannot reopen after the hang-up: ") + e.what());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
 }
 
 void SerialTransport::close() {

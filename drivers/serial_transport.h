@@ -1,6 +1,8 @@
 // A serial port (USB CDC-ACM Arduino, FTDI, or a pseudo-terminal) as a Transport:
 // 115200 baud, 8N1, no flow control, raw, opened with O_NOCTTY and made exclusive (TIOCEXCL,
-// so a second non-root opener gets EBUSY).
+// so a second non-root opener gets EBUSY), with HUPCL set: the port's last close - ours, or
+// the kernel's when the daemon is killed - drops DTR, and the next open raises it, which resets
+// an Arduino (on a pseudo-terminal the emulator at the master sees the hang-up).
 //
 // Opening: libserialport opens and configures ports it can describe (real devices found in
 // sysfs). libserialport 0.1.1 refuses pseudo-terminals and symlinks outside /dev (it looks
@@ -35,6 +37,10 @@ class SerialTransport : public Transport {
   void write(const uint8_t* data, size_t size) override;
   size_t read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) override;
   void flush_input() override;
+  // TIOCMBIC/TIOCMBIS on DTR and RTS; on a port without modem lines (a pty) a hang-up: the
+  // port is closed for `low` and reopened (up to 2 s more while it is busy or missing) with
+  // the same settings. Call it from the thread that reads and writes, never during a read.
+  void pulse_dtr(std::chrono::milliseconds low) override;
   // Wakes a blocked read (which then throws LinkLost "closed") and drops the exclusive lock;
   // the descriptor is released by the destructor.
   void close() override;

@@ -52,6 +52,14 @@ void SimulatedTransport::flush_input() {
   pending_.clear();
 }
 
+void SimulatedTransport::pulse_dtr(std::chrono::milliseconds low) {
+  if (closed_ || peer_->unplugged()) lost();
+  peer_->dtr_pulse(clock_.now(), low);
+  clock_.advance_to(clock_.now() + low);
+  take_from_peer();
+  pending_.clear();
+}
+
 void SimulatedTransport::close() { closed_ = true; }
 
 }  // namespace atelier

@@ -42,6 +42,12 @@ class SimulatedPeer {
   virtual std::optional<Clock::time_point> next_event() const = 0;
   // True once the peer has pulled the cable.
   virtual bool unplugged() const { return false; }
+  // The host dropped DTR at `now` for `low` (SimulatedTransport::pulse_dtr): a board wired
+  // for it resets. Default: nothing happens (a board whose reset is not wired to DTR).
+  virtual void dtr_pulse(Clock::time_point now, std::chrono::milliseconds low) {
+    (void)now;
+    (void)low;
+  }
 };
 
 class SimulatedTransport : public Transport {
@@ -51,6 +57,9 @@ class SimulatedTransport : public Transport {
   void write(const uint8_t* data, size_t size) override;
   size_t read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) override;
   void flush_input() override;
+  // Tells the peer (SimulatedPeer::dtr_pulse), moves the clock on by `low`, and discards what
+  // the peer sent until then.
+  void pulse_dtr(std::chrono::milliseconds low) override;
   // Loses the link (both close() and disconnect()): reads and writes throw LinkLost, and what
   // the peer sent but the host did not read yet is gone.
   void close() override;

@@ -30,6 +30,12 @@ class Transport {
   virtual size_t read(uint8_t* data, size_t max, std::chrono::milliseconds timeout) = 0;
   // Discards unread input (e.g. boot noise after an Arduino reset).
   virtual void flush_input() = 0;
+  // Resets the board the way its USB-serial adapter is wired to: DTR (and RTS) dropped for
+  // `low`, then raised again; an Arduino restarts its firmware (AYAB, GRBL) on that edge. Where
+  // the port has no modem lines (a pseudo-terminal) the port is closed for `low` and opened
+  // again, which an emulator at the other end sees as the DTR drop. Blocks for about `low`;
+  // unread input is discarded. Throws LinkLost when the port does not come back.
+  virtual void pulse_dtr(std::chrono::milliseconds low) = 0;
   virtual void close() = 0;
 };
 

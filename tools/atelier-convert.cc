@@ -2,7 +2,10 @@
 //
 //   atelier-convert KIND INPUT OUTPUT_DIR [--params FILE.toml] [--set key=value ...]
 //                   [--with INPUT2 OUTPUT_DIR2 ...] [--progress-fd N] [--max-file-bytes B]
-//                   [--max-pixels P]
+//                   [--max-pixels P] [--check]
+//
+// --check only parses and checks the parameters (--params, then --set), reads no input and
+// writes nothing; atelierd runs it to refuse a submit's bad --set values in a child process.
 //
 // --with (repeatable; parquetry only) plans another target together with INPUT on the same
 // wood, in one priority queue (paper 4.2): each target gets its own outputs in its own folder
@@ -23,6 +26,9 @@
 //   atelier-convert pencil-profile --reference GRADE OUT.toml [--scan-png SCAN.png]
 //       learn a pencil profile from a scan of pencil lines running vertically on white paper, or
 //       from the modelled reference scan of a shipped grade (tools/make-pencil-profiles)
+//   atelier-convert --job-kind FILE
+//       prints the kind a job file names (the daemon asks this in a child: untrusted TOML is
+//       never parsed inside atelierd; convert/job_file_kind.h)
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -36,7 +42,9 @@
 
 #include "convert/convert.h"
 #include "convert/kinds.h"
+#include "convert/common/memory_budget.h"
 #include "convert/common/param_table.h"
+#include "convert/job_file_kind.h"
 #include "tools/convert_commands.h"
 
 namespace fs = std::filesystem;
@@ -108,6 +116,15 @@ int main(int argc, char** argv) {
   // Not job kinds: commands with their own options (and --help).
   if (argc >= 2 && std::string(argv[1]) == "line") return atelier::convert_tool::run_line(argc - 1, argv + 1);
   if (argc >= 2 && std::string(argv[1]) == "pencil-profile") return atelier::convert_tool::run_pencil_profile(argc - 1, argv + 1);
+  if (argc == 3 && std::string(argv[1]) == "--job-kind") {
+    const auto found = atelier::read_job_file_kind(argv[2], fs::path(argv[2]).filename().string());
+    if (!found.problem.empty()) {
+      std::cerr << "error: " << found.problem << "\n";
+      return 1;
+    }
+    std::cout << found.kind << "\n";
+    return 0;
+  }
 
   CLI::App app{"atelier-convert: convert one input file as an atelier job would.\n"
                "Also: `atelier-convert line - OUTPUT_DIR --set from=X,Y --set to=X,Y --set pencil=6B` (one\n"
@@ -137,6 +154,13 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-file-bytes", limits.max_file_bytes, "largest input file in bytes");
   app.add_option("--max-pixels", limits.max_pixels, "largest input image in pixels");
+  bool check_only = false;
+  app.add_flag("--check", check_only,
+               "only parse and check --params and --set (INPUT and OUTPUT_DIR are not read; give -)");
+  uint64_t memory_mb = 0;
+  app.add_option("--memory-mb", memory_mb,
+                 "memory budget in MB (address-space limit; 0: none); running out fails with "
+                 "\"INPUT: needs more than N MB (limits.job_memory_mb)\"");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -161,13 +185,25 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  const std::string input_name = fs::path(input).filename().string();
   try {
+    if (memory_mb > 0) atelier::apply_memory_budget(memory_mb, input_name);
     // Each layer is checked on its own first, so an error names its file and line.
     toml::table params;
     if (!params_file.empty()) {
       toml::table layer = parse_toml_file(params_file);
       atelier::validate_kind_params(kind, layer, params_file);
       atelier::merge_into(params, layer);
+    }
+    if (check_only) {
+      // atelierd checks a submit's --set values here, in a child: TOML is parsed where a crash
+      // costs nothing but the check.
+      toml::table overrides;
+      for (const auto& s : sets) atelier::apply_set(overrides, s);
+      atelier::validate_kind_params(kind, overrides, "--set");
+      atelier::merge_into(params, overrides);
+      atelier::validate_kind_params(kind, params, "--set");
+      return 0;
     }
     fs::path in(input);
     const bool no_input = input == "-";
@@ -216,14 +252,18 @@ int main(int argc, char** argv) {
       // Each target's folder holds its own input, like a job's done/<id>/ folder.
       copy_input(extra.input, extra.output_dir, result.outputs);
     }
-  } catch (const ConvertError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  } catch (const ParamError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << input << ": " << e.what() << "\n";
+    if (atelier::is_out_of_memory(e)) {
+      // An allocation beyond the budget: say so, not "std::bad_alloc".
+      std::cerr << "error: "
+                << (memory_mb > 0 ? atelier::memory_exceeded_reason(input_name, memory_mb)
+                                  : input_name + ": out of memory (" + e.what() + ")")
+                << "\n";
+    } else if (dynamic_cast<const ConvertError*>(&e) || dynamic_cast<const ParamError*>(&e)) {
+      std::cerr << "error: " << e.what() << "\n";
+    } else {
+      std::cerr << "error: " << input << ": " << e.what() << "\n";
+    }
     return 1;
   }
   return 0;

@@ -5,7 +5,8 @@
 //
 // The firmware model (tools/knit_emu/firmware.h) runs on a real-time clock (ms since start);
 // this file only wires it to a pty and implements the link faults. On start it prints
-// "atelier-knit-emu: kh930 on /dev/pts/N linked at PATH" on stdout; SIGTERM/SIGINT remove the
+// "atelier-knit-emu: kh930 on /dev/pts/N linked at PATH" on stdout, and a line starting
+// "atelier-knit-emu: DTR dropped" each time the host goes away; SIGTERM/SIGINT remove the
 // link and exit 0. --fault specs are listed in tools/knit_emu/faults.h.
 //
 // drop-after-row=N: the reply that confirms row N (the next reqLine) is still written (and up to
@@ -13,8 +14,11 @@
 // the pty is closed and the link removed; after replug-ms a new pty appears at the same path
 // with a freshly booted firmware (boot delay included), like a replugged Arduino. The record
 // file keeps appending and rows keep their numbering.
-// Boot: a pty cannot tell when the host opens it, so the first byte received counts as the
-// open (the Arduino reset); input during the next --boot-ms is lost.
+// Boot: the first byte received counts as the open (the Arduino reset); input during the next
+// --boot-ms is lost.
+// DTR: when the last host descriptor on the pty closes (the host closed the port, or was
+// killed) the Arduino restarts - a fresh firmware, back in wait-for-machine with the carriage
+// and solenoids idle - unless --fault no-dtr-reset (tools/emu/pty_link.h for the detection).
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
@@ -83,7 +87,9 @@ int main(int argc, char** argv) {
       "  seed=S                seed of the corruption (default 1)\n"
       "  silent-after-row=N    answer nothing after row N\n"
       "  api=V                 report API version V in cnfInfo (e.g. 5)\n"
-      "  delay-ms=N            delay every reply by N ms");
+      "  delay-ms=N            delay every reply by N ms\n"
+      "  no-dtr-reset          do not restart when the host closes the port (auto-reset disabled)\n"
+      "Otherwise closing the port (or the host dying) drops DTR and restarts the firmware.");
   CLI11_PARSE(app, argc, argv);
 
   const auto machine = ab::machine_from_name(machine_arg);
@@ -148,6 +154,30 @@ int main(int argc, char** argv) {
   ab::Bytes pending;  // output not yet accepted by the pty
   int64_t replug_at = 0;
   ab::SlipDecoder log_in, log_out;
+  // While no host has the port open the master polls hung up at once, forever: look for a
+  // host this often instead.
+  constexpr int64_t kLookForHostMs = 2;
+  bool connected = false;  // a host has the slave open (DTR up)
+  // The host closed the port or died: DTR dropped. The Arduino restarts (a fresh firmware:
+  // wait-for-machine, carriage and solenoids idle) unless its auto-reset is not wired.
+  auto hang_up = [&] {
+    connected = false;
+    pending.clear();  // nobody to send it to
+    if (faults.dtr_reset) {
+      fw = boot_firmware();
+      log_in = ab::SlipDecoder{};
+      log_out = ab::SlipDecoder{};
+      std::cout << "atelier-knit-emu: DTR dropped (the host closed the port): firmware restarted" << std::endl;
+    } else {
+      std::cout << "atelier-knit-emu: DTR dropped (the host closed the port): no reset (fault no-dtr-reset)"
+                << std::endl;
+    }
+    try {
+      link->after_hangup();
+    } catch (const std::exception& e) {
+      std::cerr << "atelier-knit-emu: " << e.what() << '\n';
+    }
+  };
   while (!g_stop) {
     const int64_t now = clock_ms();
     if (!link) {
@@ -160,6 +190,7 @@ int main(int argc, char** argv) {
         }
         fw = boot_firmware();
         pending.clear();
+        connected = false;
         log_in = ab::SlipDecoder{};
         log_out = ab::SlipDecoder{};
         std::cerr << "atelier-knit-emu: replugged on " << link->slave_name() << '\n';
@@ -168,27 +199,34 @@ int main(int argc, char** argv) {
       ::poll(nullptr, 0, static_cast<int>(std::min<int64_t>(replug_at - now, 200)));
       continue;
     }
+    if (!connected && link->host_connected()) connected = true;
 
     int64_t timeout = 200;  // bounded so a signal between checks is seen soon
     if (auto next = fw->next_event_ms()) timeout = std::clamp<int64_t>(*next - now, 0, timeout);
+    if (!connected) timeout = std::min(timeout, kLookForHostMs);
     pollfd pfd{link->master_fd(), static_cast<short>(POLLIN | (pending.empty() ? 0 : POLLOUT)), 0};
-    const int ready = ::poll(&pfd, 1, static_cast<int>(timeout));
+    const int ready = ::poll(&pfd, connected ? 1 : 0, static_cast<int>(timeout));
     if (ready < 0 && errno != EINTR) {
       std::perror("atelier-knit-emu: poll");
       return 1;
     }
     fw->advance_to(clock_ms());
-    if (ready > 0 && (pfd.revents & POLLIN)) {
+    if (connected && ready > 0 && (pfd.revents & POLLIN)) {
       uint8_t buf[4096];
       const ssize_t n = ::read(link->master_fd(), buf, sizeof buf);
       if (n > 0) {
         ab::Bytes in(buf, buf + n);
         if (verbose) log_traffic(log_in, in, *machine, "host ->");
         fw->receive(in);
+      } else if (n < 0 && errno == EIO) {
+        hang_up();
       }
+    } else if (connected && ready > 0 && (pfd.revents & (POLLHUP | POLLERR))) {
+      hang_up();  // what the host wrote before it went has been read (POLLIN comes first)
     }
     fw->advance_to(clock_ms());
     const ab::Bytes out = fw->take_output();
+    if (!connected) continue;  // a serial line with no host loses what is sent
     if (verbose && !out.empty()) log_traffic(log_out, out, *machine, "emu  ->");
     pending.insert(pending.end(), out.begin(), out.end());
     // The drop waits for the reqLine that confirms row N to the host (it comes once the

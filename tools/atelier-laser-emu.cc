@@ -6,10 +6,16 @@
 // The controller model (tools/laser_emu/controller.h) runs on the steady clock; this file wires
 // it to a pty, paces nothing itself (the model times every byte at the baud rate), injects the
 // link faults (tools/laser_emu/faults.h) and writes the record. On start it prints
-// "atelier-laser-emu: GRBL 1.1h on /dev/pts/N linked at PATH" on stdout. SIGTERM/SIGINT write
+// "atelier-laser-emu: GRBL 1.1h on /dev/pts/N linked at PATH" on stdout, and a line starting
+// "atelier-laser-emu: DTR dropped" each time the host goes away. SIGTERM/SIGINT write
 // the record and render, remove the link and exit 0.
+// The port's DTR line: when the last host descriptor on the pty closes (the host closed the port,
+// or was killed) the board restarts at once as an Uno's auto-reset does (Controller::hangup():
+// beam off, motion, planner and buffers gone, Alarm if homing is enabled), recorded as a
+// "hangup" event; the banner goes out when a host next opens the port (tools/emu/pty_link.h).
 // --record FILE: JSON (tools/laser_emu/record.h), written atomically (temp file + rename) at
-// exit and about every 0.5 s while it changes. --render PNG: what was burned, written with the
+// exit and about every 0.5 s while it changes (on a thread of its own, so writing never
+// delays the controller). --render PNG: what was burned, written with the
 // record: white work area at --px-per-mm, machine (X, Y) at pixel (X*ppm, (H-Y)*ppm).
 #include <poll.h>
 #include <signal.h>
@@ -24,6 +30,10 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <condition_variable>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tools/emu/pty_link.h"
@@ -67,6 +77,59 @@ void save(const le::Record& record, const std::string& record_path, const std::s
   }
 }
 
+// Writes snapshots of the record on its own thread, so a slow write (the render is a PNG of
+// the whole bed) never holds up the controller - above all not its answer to a hang-up. The
+// newest snapshot wins; finish() writes the last one and joins.
+class RecordWriter {
+ public:
+  RecordWriter(std::string record_path, std::string render_path, double ppm)
+      : record_path_(std::move(record_path)), render_path_(std::move(render_path)), ppm_(ppm),
+        thread_([this] { run(); }) {}
+  ~RecordWriter() { finish(std::nullopt); }
+
+  void submit(le::Record r) {
+    {
+      std::lock_guard lock(mu_);
+      next_ = std::move(r);
+    }
+    wake_.notify_one();
+  }
+  // Stops the thread, then writes `last` (if any) on this one.
+  void finish(std::optional<le::Record> last) {
+    if (thread_.joinable()) {
+      {
+        std::lock_guard lock(mu_);
+        stop_ = true;
+      }
+      wake_.notify_one();
+      thread_.join();
+    }
+    if (last) save(*last, record_path_, render_path_, ppm_);
+  }
+
+ private:
+  void run() {
+    std::unique_lock lock(mu_);
+    for (;;) {
+      wake_.wait(lock, [&] { return stop_ || next_; });
+      if (stop_) return;
+      le::Record r = std::move(*next_);
+      next_.reset();
+      lock.unlock();
+      save(r, record_path_, render_path_, ppm_);
+      lock.lock();
+    }
+  }
+
+  const std::string record_path_, render_path_;
+  const double ppm_;
+  std::mutex mu_;
+  std::condition_variable wake_;
+  std::optional<le::Record> next_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -96,7 +159,8 @@ int main(int argc, char** argv) {
       "  drop-at-line=N          after answering line N, close the pty and remove the link\n"
       "                          (board unpowered); --replug-ms MS brings a fresh one back\n"
       "  stall-at-line=N         after answering line N, stop reading and answering\n"
-      "  alarm-at-line=N[:CODE]  raise ALARM:CODE (default 1, hard limit) when line N is taken");
+      "  alarm-at-line=N[:CODE]  raise ALARM:CODE (default 1, hard limit) when line N is taken\n"
+      "Closing the port (or the host dying) drops DTR: the board restarts at once, beam off.");
   CLI11_PARSE(app, argc, argv);
 
   le::Faults faults;
@@ -139,6 +203,7 @@ int main(int argc, char** argv) {
     if (faults.drop_at_line && !dropped && (!o.halt_after_line || *faults.drop_at_line < *o.halt_after_line))
       o.halt_after_line = faults.drop_at_line;
     o.epoch_at_zero_s = epoch_at_zero;
+    o.banner_waits_for_host = true;  // printed when a host opens the port
     return std::make_unique<le::Controller>(o, record, clock_us());
   };
 
@@ -152,18 +217,41 @@ int main(int argc, char** argv) {
   auto ctl = power_on(0);
   std::cout << "atelier-laser-emu: GRBL 1.1h on " << link->slave_name() << " linked at " << link_path << std::endl;
 
+  RecordWriter writer(record_path, render_path, ppm);
   std::string pending;  // output the pty has not accepted yet
   long lines_so_far = 0;
   int64_t replug_at = -1;
   uint64_t saved_version = ~0ull;
   int64_t last_save = 0;
   constexpr int64_t kSaveEveryUs = 500'000;
+  // While no host has the port open the master polls hung up at once, forever: look for a
+  // host this often instead (an Uno takes far longer to print its banner after the open).
+  constexpr int64_t kLookForHostUs = 2'000;
+  bool connected = false;  // a host has the slave open (DTR up)
+
+  // The host closed the port or died: DTR dropped, the board restarts (beam off at once).
+  auto hang_up = [&] {
+    connected = false;
+    pending.clear();  // nobody to send it to
+    if (ctl) ctl->hangup(clock_us());
+    std::cout << "atelier-laser-emu: DTR dropped (the host closed the port): board restarted, beam off" << std::endl;
+    try {
+      link->after_hangup();
+    } catch (const std::exception& e) {
+      std::cerr << "atelier-laser-emu: " << e.what() << '\n';
+    }
+  };
 
   while (!g_stop) {
     int64_t now = clock_us();
+    if (link && !connected && link->host_connected()) {
+      connected = true;
+      if (ctl) ctl->host_connected(now);
+    }
     if (ctl) {
       ctl->advance_to(now);
-      pending += ctl->take_output();
+      const std::string out = ctl->take_output();
+      if (connected) pending += out;  // a serial line with no host loses what is sent
       const long acked = ctl->last_acknowledged_line();
       if (faults.stall_at_line && !stalled && acked >= *faults.stall_at_line) {
         stalled = true;  // the controller has halted; its last answer still goes out
@@ -171,7 +259,7 @@ int main(int argc, char** argv) {
       }
       if (faults.drop_at_line && !dropped && !drop_pending && acked >= *faults.drop_at_line) drop_pending = true;
     }
-    while (link && !pending.empty()) {
+    while (link && connected && !pending.empty()) {
       const ssize_t n = ::write(link->master_fd(), pending.data(), pending.size());
       if (n <= 0) break;  // EAGAIN: the host is not reading; retry on POLLOUT
       pending.erase(0, static_cast<size_t>(n));
@@ -188,6 +276,8 @@ int main(int argc, char** argv) {
       ctl.reset();
       link->close();
       link.reset();
+      connected = false;
+      pending.clear();
       if (replug_ms >= 0) replug_at = clock_us() + replug_ms * 1000;
     }
     if (!link && replug_at >= 0 && clock_us() >= replug_at) {
@@ -209,34 +299,42 @@ int main(int argc, char** argv) {
         (!record_path.empty() || !render_path.empty())) {
       saved_version = record.version;
       last_save = now;
-      save(ctl ? ctl->snapshot() : record, record_path, render_path, ppm);
+      writer.submit(ctl ? ctl->snapshot() : record);
     }
 
-    // Sleep until the model's next event (sub-millisecond: ppoll), a byte from the host, or
-    // 200 ms so signals and saves are seen.
+    // Sleep until the model's next event (sub-millisecond: ppoll), a byte from the host or its
+    // hang-up, or 200 ms so signals and saves are seen; without a host, until it is time to
+    // look for one again.
     int64_t timeout_us = 200'000;
     if (ctl)
       if (auto next = ctl->next_event_us()) timeout_us = std::clamp<int64_t>(*next - now, 0, timeout_us);
     if (replug_at >= 0) timeout_us = std::clamp<int64_t>(replug_at - now, 0, timeout_us);
+    if (link && !connected) timeout_us = std::min(timeout_us, kLookForHostUs);
     const timespec ts{static_cast<time_t>(timeout_us / 1'000'000), static_cast<long>(timeout_us % 1'000'000) * 1000};
     pollfd pfd{-1, 0, 0};
-    if (link) {
+    const bool watch = link && connected;
+    if (watch) {
       pfd.fd = link->master_fd();
       pfd.events = static_cast<short>(((stalled || drop_pending) ? 0 : POLLIN) | (pending.empty() ? 0 : POLLOUT));
     }
-    const int ready = ::ppoll(&pfd, link ? 1 : 0, &ts, nullptr);
+    const int ready = ::ppoll(&pfd, watch ? 1 : 0, &ts, nullptr);
     if (ready < 0 && errno != EINTR) {
       std::perror("atelier-laser-emu: ppoll");
       return 1;
     }
-    if (ready > 0 && ctl && (pfd.revents & POLLIN)) {
+    if (ready <= 0 || !watch) continue;
+    if (pfd.revents & POLLIN) {
       char buf[4096];
       const ssize_t n = ::read(link->master_fd(), buf, sizeof buf);
-      if (n > 0) ctl->host_write(std::string_view(buf, static_cast<size_t>(n)), clock_us());
+      if (n > 0 && ctl) ctl->host_write(std::string_view(buf, static_cast<size_t>(n)), clock_us());
+      if (n > 0) continue;  // what the host wrote before it went is read before the hang-up
+      if (n < 0 && errno == EIO) hang_up();
+    } else if (pfd.revents & (POLLHUP | POLLERR)) {
+      hang_up();
     }
   }
   if (ctl) ctl->advance_to(clock_us());
-  save(ctl ? ctl->snapshot() : record, record_path, render_path, ppm);
+  writer.finish(ctl ? ctl->snapshot() : record);
   link.reset();  // removes the symlink
   return 0;
 }

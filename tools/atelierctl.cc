@@ -34,6 +34,8 @@ struct Command {
   json args = json::object();
   bool json_output = false;
   std::function<std::string(const json&)> render = atelier::ctl::format_value;
+  // Files the daemon is to read: opened here, with our rights, and passed with the request.
+  std::vector<std::string> files = {};
 };
 
 const CLI::Validator kKeyValue(
@@ -225,8 +227,9 @@ int main(int argc, char** argv) {
     } else if (show->parsed()) {
       cmd = Command{"show", {{"id", id}}, cmd.json_output, atelier::ctl::format_job_details};
     } else if (submit->parsed()) {
-      cmd = Command{"submit", {{"path", absolute_path(file)}, {"kind", kind}, {"set", sets}},
-                    false, render_job_or_value};
+      const std::string path = absolute_path(file);
+      cmd = Command{"submit", {{"path", path}, {"kind", kind}, {"set", sets}}, false,
+                    render_job_or_value, {path}};
     } else if (start->parsed() || cancel->parsed() || retry->parsed() || frame->parsed() ||
                hold->parsed()) {
       std::string verb = start->parsed()    ? "start"
@@ -249,9 +252,13 @@ int main(int argc, char** argv) {
         cmd.args = {{"action", "list"}};
       } else if (wood_add->parsed()) {
         cmd.args = {{"action", "add"}, {"image", absolute_path(file)}};
+        cmd.files = {cmd.args["image"]};
         if (!wood_id.empty()) cmd.args["id"] = wood_id;
         if (wood_dpi > 0) cmd.args["dpi"] = wood_dpi;
-        if (!wood_mask.empty()) cmd.args["mask"] = absolute_path(wood_mask);
+        if (!wood_mask.empty()) {
+          cmd.args["mask"] = absolute_path(wood_mask);
+          cmd.files.push_back(cmd.args["mask"]);
+        }
       } else if (wood_remove->parsed()) {
         cmd.args = {{"action", "remove"}, {"id", wood_id}, {"force", wood_force}};
       } else if (wood_reset->parsed()) {
@@ -265,10 +272,25 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
 
+  // The daemon reads these with our rights, not its own: we open them and pass the descriptors.
+  std::vector<int> open_files;
+  struct CloseAll {
+    std::vector<int>& fds;
+    ~CloseAll() {
+      for (int fd : fds) ::close(fd);
+    }
+  } close_all{open_files};
+  try {
+    for (const std::string& f : cmd.files) open_files.push_back(atelier::ctl::open_regular_file(f));
+  } catch (const std::runtime_error& e) {
+    std::cerr << "atelierctl: " << e.what() << "\n";
+    return kExitFailed;
+  }
+
   try {
     ControlClient client(socket);
     if (watch->parsed()) return run_watch(client);
-    json response = client.request(cmd.verb, cmd.args);
+    json response = client.request(cmd.verb, cmd.args, ControlClient::kDefaultTimeout, open_files);
     if (!response_ok(response)) return print_failure(response);
     const json result = response.contains("result") ? response["result"] : json();
     if (cmd.json_output) {

@@ -1,6 +1,8 @@
 #include "tools/ctl_client.h"
 
+#include <fcntl.h>
 #include <poll.h>
+#include <sys/stat.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
@@ -8,6 +10,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 
 namespace atelier::ctl {
 namespace {
@@ -53,10 +56,46 @@ ControlClient::~ControlClient() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void ControlClient::send(const nlohmann::json& message) {
+int open_regular_file(const std::string& path) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) throw std::runtime_error(path + ": cannot open: " + errno_text(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw std::runtime_error(path + ": not a regular file");
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  return fd;
+}
+
+void ControlClient::send(const nlohmann::json& message, const std::vector<int>& files) {
   std::string line = message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   line.push_back('\n');
   std::size_t sent = 0;
+  if (!files.empty()) {
+    // The descriptors go with the line's first bytes: the daemon hands them to this request.
+    std::vector<char> control(CMSG_SPACE(files.size() * sizeof(int)), 0);
+    struct iovec iov = {line.data(), line.size()};
+    struct msghdr msg {};
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    msg.msg_control = control.data();
+    msg.msg_controllen = control.size();
+    struct cmsghdr* c = CMSG_FIRSTHDR(&msg);
+    c->cmsg_level = SOL_SOCKET;
+    c->cmsg_type = SCM_RIGHTS;
+    c->cmsg_len = CMSG_LEN(files.size() * sizeof(int));
+    std::memcpy(CMSG_DATA(c), files.data(), files.size() * sizeof(int));
+    ssize_t n;
+    do {
+      n = ::sendmsg(fd_, &msg, MSG_NOSIGNAL);
+    } while (n < 0 && errno == EINTR);
+    if (n < 0) {
+      int err = errno;
+      throw UnreachableError("cannot write to " + path_ + ": " + errno_text(err), err);
+    }
+    sent = static_cast<std::size_t>(n);
+  }
   while (sent < line.size()) {
     // MSG_NOSIGNAL: a daemon that went away must give an error here, not kill us by SIGPIPE.
     ssize_t n = ::send(fd_, line.data() + sent, line.size() - sent, MSG_NOSIGNAL);
@@ -131,8 +170,8 @@ std::optional<nlohmann::json> ControlClient::receive(
 }
 
 nlohmann::json ControlClient::request(const std::string& verb, const nlohmann::json& args,
-                                      std::chrono::milliseconds timeout) {
-  send(nlohmann::json{{"verb", verb}, {"args", args}});
+                                      std::chrono::milliseconds timeout, const std::vector<int>& files) {
+  send(nlohmann::json{{"verb", verb}, {"args", args}}, files);
   std::optional<nlohmann::json> response = receive(timeout);
   if (!response) {
     throw UnreachableError("the daemon at " + path_ + " closed the connection without answering",

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -38,6 +39,11 @@ class ProtocolError : public InternalError {
   using InternalError::InternalError;
 };
 
+// Opens `path` for reading as a file to hand the daemon (O_RDONLY | O_CLOEXEC, not blocking on
+// a FIFO) and checks that it is a regular file. Returns the descriptor (the caller closes it).
+// Throws std::runtime_error naming the path and the problem.
+int open_regular_file(const std::string& path);
+
 class ControlClient {
  public:
   // How long request() waits for its answer unless told otherwise.
@@ -55,12 +61,16 @@ class ControlClient {
 
   // Sends {"verb": verb, "args": args} and returns the daemon's response object as is
   // ({"ok": true, "result": ...} or {"ok": false, "error": ...}); interpreting ok is the
-  // caller's job. Throws UnreachableError or ProtocolError.
+  // caller's job. `files`: open descriptors passed with the request (SCM_RIGHTS), in order,
+  // so the daemon reads them with our rights (the caller keeps and closes its own copies).
+  // Throws UnreachableError or ProtocolError.
   nlohmann::json request(const std::string& verb, const nlohmann::json& args,
-                         std::chrono::milliseconds timeout = kDefaultTimeout);
+                         std::chrono::milliseconds timeout = kDefaultTimeout,
+                         const std::vector<int>& files = {});
 
-  // Writes one message as one line. Throws UnreachableError.
-  void send(const nlohmann::json& message);
+  // Writes one message as one line, `files` riding with its first byte. Throws
+  // UnreachableError.
+  void send(const nlohmann::json& message, const std::vector<int>& files = {});
 
   // Reads the next message. timeout nullopt waits forever (watch). Returns nullopt when the
   // daemon closed the connection cleanly between messages. Throws UnreachableError on a

@@ -36,7 +36,9 @@ cv::Mat to_gray(const cv::Mat& image) {
   }
 }
 
-cv::Mat to_stitch_grid(const cv::Mat& image, const GaugeParams& params) {
+namespace {
+
+void check_params(const GaugeParams& params) {
   if (params.width < 1)
     throw std::invalid_argument("to_stitch_grid: width must be at least 1 stitch, got " +
                                 std::to_string(params.width));
@@ -44,23 +46,37 @@ cv::Mat to_stitch_grid(const cv::Mat& image, const GaugeParams& params) {
     throw std::invalid_argument("to_stitch_grid: stitches_per_10cm must be a positive number");
   if (!(params.rows_per_10cm > 0) || !std::isfinite(params.rows_per_10cm))
     throw std::invalid_argument("to_stitch_grid: rows_per_10cm must be a positive number");
+}
+
+}  // namespace
+
+long stitch_rows(long picture_w, long picture_h, const GaugeParams& params) {
+  check_params(params);
+  if (picture_w <= 0 || picture_h <= 0) return 0;
+  const bool vertical = params.orientation == Orientation::vertical;
+  const double across = static_cast<double>(vertical ? picture_h : picture_w);
+  const double down = static_cast<double>(vertical ? picture_w : picture_h);
+  // Stitches are wider than tall when rows_per_10cm > stitches_per_10cm: more rows are
+  // needed for the same picture height.
+  return std::lround(params.width * down / across * params.rows_per_10cm / params.stitches_per_10cm);
+}
+
+cv::Mat to_stitch_grid(const cv::Mat& image, const GaugeParams& params) {
+  check_params(params);
   cv::Mat gray = to_gray(image);
   if (params.orientation == Orientation::vertical) {
     cv::Mat rotated;
     cv::rotate(gray, rotated, cv::ROTATE_90_CLOCKWISE);
     gray = rotated;
   }
-  // Stitches are wider than tall when rows_per_10cm > stitches_per_10cm: more rows are
-  // needed for the same picture height.
-  const double rows_exact = params.width * static_cast<double>(gray.rows) / gray.cols *
-                            params.rows_per_10cm / params.stitches_per_10cm;
-  const long rows = std::lround(rows_exact);
+  const long rows = stitch_rows(image.cols, image.rows, params);
   if (rows < 1)
     throw std::invalid_argument("to_stitch_grid: the picture is too flat for " +
                                 std::to_string(params.width) + " stitches (0 rows)");
-  if (rows > 100000)
+  if (rows > kMaxRows)
     throw std::invalid_argument("to_stitch_grid: the pattern would have " + std::to_string(rows) +
-                                " rows; lower the width or check the gauge");
+                                " rows, more than the limit of " + std::to_string(kMaxRows) +
+                                "; lower the width or check the gauge");
   const cv::Size size(params.width, static_cast<int>(rows));
   const bool shrinking = size.width <= gray.cols && size.height <= gray.rows;
   cv::Mat grid;

@@ -10,20 +10,24 @@ Point mid(Point a, Point b) { return {(a.x + b.x) / 2, (a.y + b.y) / 2}; }
 
 // The curve lies in the convex hull of its control points, so when both inner control
 // points are within `tol` of the chord, so is every point of the curve.
-void subdivide(Point p0, Point p1, Point p2, Point p3, double tol, int depth,
-               std::vector<Point>& out) {
+// Returns false when the budget `max_points` is used up.
+bool subdivide(Point p0, Point p1, Point p2, Point p3, double tol, int depth,
+               std::vector<Point>& out, size_t max_points) {
   if (depth >= 24 ||
       (distance_to_segment(p1, p0, p3) <= tol && distance_to_segment(p2, p0, p3) <= tol)) {
+    if (out.size() >= max_points) return false;
     out.push_back(p3);
-    return;
+    return true;
   }
   // de Casteljau split at t = 0.5.
   Point p01 = mid(p0, p1), p12 = mid(p1, p2), p23 = mid(p2, p3);
   Point p012 = mid(p01, p12), p123 = mid(p12, p23);
   Point m = mid(p012, p123);
-  subdivide(p0, p01, p012, m, tol, depth + 1, out);
-  subdivide(m, p123, p23, p3, tol, depth + 1, out);
+  return subdivide(p0, p01, p012, m, tol, depth + 1, out, max_points) &&
+         subdivide(m, p123, p23, p3, tol, depth + 1, out, max_points);
 }
+
+bool finite(Point p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
 }  // namespace
 
@@ -45,9 +49,11 @@ bool Bounds::contains(const Bounds& inner) const {
          inner.min_y >= min_y && inner.max_y <= max_y;
 }
 
-void flatten_cubic(Point p0, Point p1, Point p2, Point p3, double tolerance_mm,
-                   std::vector<Point>& out) {
-  subdivide(p0, p1, p2, p3, std::max(tolerance_mm, 1e-4), 0, out);
+bool flatten_cubic(Point p0, Point p1, Point p2, Point p3, double tolerance_mm,
+                   std::vector<Point>& out, size_t max_points) {
+  // A NaN fails every tolerance test and would subdivide to the full depth (2^24 points).
+  if (!finite(p0) || !finite(p1) || !finite(p2) || !finite(p3)) return false;
+  return subdivide(p0, p1, p2, p3, std::max(tolerance_mm, 1e-4), 0, out, max_points);
 }
 
 double distance(Point a, Point b) { return std::hypot(a.x - b.x, a.y - b.y); }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace atelier::laser {
@@ -30,9 +31,11 @@ struct Bounds {
 
 // Appends the flattened cubic p0..p3 (p0 excluded, p3 included) so that no chord deviates
 // from the curve by more than `tolerance_mm` (adaptive subdivision; tolerance is clamped to
-// at least 1e-4 mm).
-void flatten_cubic(Point p0, Point p1, Point p2, Point p3, double tolerance_mm,
-                   std::vector<Point>& out);
+// at least 1e-4 mm). Returns false, having stopped early, when `out` would grow beyond
+// `max_points` points (a budget for the whole drawing: `out` never holds more); true
+// otherwise. Non-finite control points append nothing and return false.
+bool flatten_cubic(Point p0, Point p1, Point p2, Point p3, double tolerance_mm,
+                   std::vector<Point>& out, size_t max_points = SIZE_MAX);
 
 double distance(Point a, Point b);
 // Distance from `p` to the segment a..b.

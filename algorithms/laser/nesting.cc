@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "algorithms/laser/spatial_index.h"
+
 namespace atelier::laser {
 namespace {
 
@@ -27,18 +29,29 @@ std::vector<std::vector<size_t>> containing_paths(const std::vector<Path>& paths
   const size_t n = paths.size();
   std::vector<Bounds> box(n);
   std::vector<double> area(n, 0.0);
+  // Only closed paths with an area can contain anything: those go in an R-tree of their
+  // bounding boxes, so each path tests just the candidates whose box covers its own.
+  using Entry = std::pair<index::BBox, size_t>;
+  std::vector<Entry> containers;
   for (size_t i = 0; i < n; ++i) {
     box[i] = bounds_of(paths[i]);
     if (paths[i].closed) area[i] = std::fabs(signed_area(paths[i].points));
+    if (paths[i].closed && paths[i].points.size() >= 3 && area[i] > 0)
+      containers.emplace_back(index::to_bbox(box[i]), i);
   }
+  const index::bgi::rtree<Entry, index::Params> tree(containers.begin(), containers.end());
   std::vector<std::vector<size_t>> result(n);
-  for (size_t b = 0; b < n; ++b) {
-    if (!paths[b].closed || paths[b].points.size() < 3 || area[b] <= 0) continue;
-    for (size_t a = 0; a < n; ++a) {
-      if (a == b || paths[a].points.empty() || !box[b].contains(box[a])) continue;
+  std::vector<Entry> found;
+  for (size_t a = 0; a < n; ++a) {
+    if (paths[a].points.empty()) continue;
+    found.clear();
+    tree.query(index::bgi::covers(index::to_bbox(box[a])), std::back_inserter(found));
+    for (const auto& [ignored, b] : found) {
+      if (a == b) continue;
       if (paths[a].closed && area[a] >= area[b]) continue;
       if (encloses_majority(paths[b], paths[a])) result[a].push_back(b);
     }
+    std::sort(result[a].begin(), result[a].end());
   }
   return result;
 }

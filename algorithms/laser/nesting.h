@@ -1,5 +1,8 @@
 // Which closed paths contain which paths (for cut order and kerf direction).
 //
+// Candidates come from an R-tree of the closed paths' bounding boxes: O(n log n) for n
+// paths plus the tests of boxes that do cover each other.
+//
 // Pure; thread-safe. Units: mm.
 #pragma once
 

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <type_traits>
 
+#include "convert/common/xml_extent.h"
 #include "convert/convert.h"
 
 namespace atelier {
@@ -101,12 +102,33 @@ class RootProbe {
   int depth_ = 0;
 };
 
+// SVG++'s own path conversion, except that arcs come to the Collector: SVG++'s arc code
+// casts an angle to int, undefined for the NaN a degenerate or non-finite arc gives, so the
+// Collector checks each arc before converting it with SVG++'s helpers.
+struct PathPolicy {
+  static const bool absolute_coordinates_only = true;
+  static const bool no_ortho_line_to = true;
+  static const bool no_quadratic_bezier_shorthand = true;
+  static const bool no_cubic_bezier_shorthand = true;
+  static const bool quadratic_bezier_as_cubic = true;
+  static const bool arc_as_cubic_bezier = false;
+};
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+bool finite(Point p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
 class Collector {
  public:
   typedef svgpp::factory::length::unitless<> length_factory_type;
 
-  Collector(const length_factory_type& lengths, double tolerance_mm)
-      : lengths_(lengths), tolerance_mm_(tolerance_mm), stack_(1) {}
+  Collector(const length_factory_type& lengths, double tolerance_mm, const SvgLimits& limits,
+            const std::string& name)
+      : lengths_(lengths), tolerance_mm_(tolerance_mm), limits_(limits), name_(name), stack_(1) {}
 
   const length_factory_type& length_factory() const { return lengths_; }
 
@@ -147,18 +169,71 @@ class Collector {
     top().local = top().local * Affine{m[0], m[1], m[2], m[3], m[4], m[5]};
   }
 
-  // Path events, absolute coordinates only (policy::path::minimal).
+  // Path events, absolute coordinates only (PathPolicy).
   void path_move_to(double x, double y, tag::coordinate::absolute) {
     add(Segment::move, {Point{x, y}});
+    at_ = start_ = Point{x, y};
   }
   void path_line_to(double x, double y, tag::coordinate::absolute) {
     add(Segment::line, {Point{x, y}});
+    at_ = Point{x, y};
   }
   void path_cubic_bezier_to(double x1, double y1, double x2, double y2, double x, double y,
                             tag::coordinate::absolute) {
     add(Segment::cubic, {Point{x1, y1}, Point{x2, y2}, Point{x, y}});
+    at_ = Point{x, y};
   }
-  void path_close_subpath() { add(Segment::close, {}); }
+  // SVG 1.1 F.6: radii are absolute values, a zero radius is a line (and so is a small arc
+  // of radii a billion times its chord), an arc to its own start is nothing; then endpoint to centre form and cubics, as SVG++ would, once every number
+  // that reaches the conversion (and its cast) is known to be finite.
+  void path_elliptical_arc_to(double rx, double ry, double rotation_deg, bool large_arc,
+                              bool sweep, double x, double y, tag::coordinate::absolute) {
+    const Point to{x, y};
+    if (!std::isfinite(rx) || !std::isfinite(ry) || !std::isfinite(rotation_deg) || !finite(to) ||
+        !finite(at_)) {
+      throw ConvertError(name_ + ": an arc has a number that is not finite (rx " + number_text(rx) +
+                         ", ry " + number_text(ry) + ", rotation " + number_text(rotation_deg) +
+                         ", to " + number_text(x) + "," + number_text(y) + ")");
+    }
+    if (to.x == at_.x && to.y == at_.y) return;
+    rx = std::fabs(rx);
+    ry = std::fabs(ry);
+    // A small arc whose radii dwarf its chord bows out by at most chord^2 * rx / (8 ry^2)
+    // (ry the smaller radius): below 1e-9 of the chord it is the chord, and computing its
+    // centre (1e300 away, say) would only lose every digit of the end points.
+    const double r_min = std::min(rx, ry), r_max = std::max(rx, ry);
+    const double chord = std::hypot(x - at_.x, y - at_.y);
+    if (rx == 0 || ry == 0 || (!large_arc && r_min / r_max * r_min > 1e9 * chord)) {
+      path_line_to(x, y, tag::coordinate::absolute());
+      return;
+    }
+    const double phi = std::fmod(rotation_deg, 360.0) * boost::math::constants::degree<double>();
+    double cx, cy, theta1, theta2;
+    svgpp::arc_endpoint_to_center(at_.x, at_.y, x, y, rx, ry, phi, large_arc, sweep, cx, cy,
+                                  theta1, theta2);
+    if (!std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(theta1) ||
+        !std::isfinite(theta2) || !std::isfinite(rx) || !std::isfinite(ry)) {
+      // Radii so far from the chord's size that the centre cannot be computed (e.g. 1e-300 or
+      // 1e300): the arc is, within any tolerance, the straight chord.
+      path_line_to(x, y, tag::coordinate::absolute());
+      return;
+    }
+    constexpr double kTwoPi = boost::math::constants::two_pi<double>();
+    if (sweep && theta2 < theta1) theta2 += kTwoPi;
+    if (!sweep && theta2 > theta1) theta2 -= kTwoPi;
+    using ArcToBezier = svgpp::arc_to_bezier<double>;
+    ArcToBezier a2b(cx, cy, rx, ry, phi, ArcToBezier::circle_angle_tag(), theta1, theta2,
+                    ArcToBezier::max_angle_tag(), boost::math::constants::half_pi<double>());
+    for (ArcToBezier::iterator it(a2b); !it.eof(); it.advance())
+      add(Segment::cubic, {Point{it.p1x(), it.p1y()}, Point{it.p2x(), it.p2y()},
+                           Point{it.p3x(), it.p3y()}});
+    add(Segment::line, {to});  // lands exactly on the end point
+    at_ = to;
+  }
+  void path_close_subpath() {
+    add(Segment::close, {});
+    at_ = start_;
+  }
   void path_exit() {}
 
   // Paint and display.
@@ -194,13 +269,40 @@ class Collector {
   Frame& top() { return stack_.back(); }
 
   void add(Segment::Kind kind, std::initializer_list<Point> pts) {
+    // Every command becomes at least one point: a path of millions of commands is refused
+    // before its segments fill memory.
+    if (++commands_ > limits_.max_points) points_over_limit();
     Segment s{kind, {}};
     size_t i = 0;
     for (Point p : pts) s.p[i++] = p;
     top().segments.push_back(s);
   }
 
-  static void push_point(laser::Path& path, Point p) {
+  [[noreturn]] void points_over_limit() const {
+    throw ConvertError(name_ + ": more than " + std::to_string(limits_.max_points) +
+                       " points after flattening the curves to " + number_text(tolerance_mm_) +
+                       " mm (limit " + std::to_string(limits_.max_points) +
+                       " points per drawing; simplify it or raise tolerance_mm)");
+  }
+
+  // Every point in mm must be finite and within the limit before it is flattened or planned.
+  Point checked(Point p) const {
+    if (!finite(p)) {
+      throw ConvertError(name_ + ": a shape's coordinates are not finite numbers after its "
+                         "transforms and units (an infinite or NaN value, or an overflowing "
+                         "scale)");
+    }
+    const double far = std::max(std::fabs(p.x), std::fabs(p.y));
+    if (far > limits_.max_coordinate_mm) {
+      throw ConvertError(name_ + ": a shape reaches " + number_text(far) +
+                         " mm from the origin after its transforms (limit " +
+                         number_text(limits_.max_coordinate_mm) + " mm)");
+    }
+    return p;
+  }
+
+  void push_point(laser::Path& path, Point p) {
+    if (++points_ > limits_.max_points) points_over_limit();
     if (!path.points.empty()) {
       Point q = path.points.back();
       if (std::fabs(p.x - q.x) < 1e-9 && std::fabs(p.y - q.y) < 1e-9) return;
@@ -209,7 +311,7 @@ class Collector {
   }
 
   // A subpath whose end meets its start encloses an area, Z or not (kerf needs to know).
-  static void finish(laser::Path& path, std::vector<laser::Path>& out) {
+  void finish(laser::Path& path, std::vector<laser::Path>& out) {
     auto& pts = path.points;
     if (pts.size() >= 2 && laser::distance(pts.front(), pts.back()) < 1e-6) {
       pts.pop_back();
@@ -228,21 +330,24 @@ class Collector {
       switch (s.kind) {
         case Segment::move:
           finish(path, shape.paths);
-          start = at = to_mm.apply(s.p[0]);
-          path.points.push_back(at);
+          start = at = checked(to_mm.apply(s.p[0]));
+          push_point(path, at);
           break;
         case Segment::line:
-          if (path.points.empty()) path.points.push_back(at);
-          at = to_mm.apply(s.p[0]);
+          if (path.points.empty()) push_point(path, at);
+          at = checked(to_mm.apply(s.p[0]));
           push_point(path, at);
           break;
         case Segment::cubic: {
-          if (path.points.empty()) path.points.push_back(at);
-          std::vector<Point> flat;
-          Point end = to_mm.apply(s.p[2]);
-          laser::flatten_cubic(at, to_mm.apply(s.p[0]), to_mm.apply(s.p[1]), end,
-                               tolerance_mm_, flat);
-          for (Point p : flat) push_point(path, p);
+          if (path.points.empty()) push_point(path, at);
+          flat_.clear();
+          Point end = checked(to_mm.apply(s.p[2]));
+          const size_t room = limits_.max_points - std::min(points_, limits_.max_points);
+          if (!laser::flatten_cubic(at, checked(to_mm.apply(s.p[0])),
+                                    checked(to_mm.apply(s.p[1])), end, tolerance_mm_, flat_,
+                                    room))
+            points_over_limit();
+          for (Point p : flat_) push_point(path, p);
           at = end;
           break;
         }
@@ -268,6 +373,12 @@ class Collector {
 
   const length_factory_type& lengths_;
   double tolerance_mm_;
+  const SvgLimits& limits_;
+  const std::string& name_;
+  size_t commands_ = 0;  // path commands so far, whole drawing
+  size_t points_ = 0;    // flattened points so far, whole drawing
+  std::vector<Point> flat_;  // scratch for one curve
+  Point at_{0, 0}, start_{0, 0};  // current point and subpath start, user units
   // [0] is the root svg element: SVG++ sends no enter/exit events for it, only its attributes.
   std::vector<Frame> stack_;
 };
@@ -348,11 +459,35 @@ rapidxml_ns::xml_node<>* document_element(rapidxml_ns::xml_document<>& doc) {
   return node;
 }
 
+// Refuses, before any parser sees the text, a document deeper or larger than the limits:
+// rapidxml and SVG++ recurse per nesting level (a million nested groups overflow the
+// stack) and allocate per element and attribute.
+void check_extent(const std::vector<char>& text, const SvgLimits& limits, const std::string& name) {
+  const XmlExtent x = measure_xml(std::string_view(text.data(), text.size() - 1),
+                                  limits.max_elements, limits.max_attributes, limits.max_depth);
+  if (x.max_depth > limits.max_depth) {
+    throw ConvertError(name + ": elements nested more than " + std::to_string(limits.max_depth) +
+                       " deep (limit " + std::to_string(limits.max_depth) + " levels)");
+  }
+  if (x.elements > limits.max_elements) {
+    throw ConvertError(name + ": more than " + std::to_string(limits.max_elements) +
+                       " elements (limit " + std::to_string(limits.max_elements) +
+                       " per drawing)");
+  }
+  if (x.attributes > limits.max_attributes) {
+    throw ConvertError(name + ": more than " + std::to_string(limits.max_attributes) +
+                       " attributes (limit " + std::to_string(limits.max_attributes) +
+                       " per drawing)");
+  }
+}
+
 }  // namespace
 
-SvgDrawing read_svg(const fs::path& file, double tolerance_mm, uintmax_t max_bytes) {
+SvgDrawing read_svg(const fs::path& file, double tolerance_mm, uintmax_t max_bytes,
+                    const SvgLimits& limits) {
   const std::string name = file.filename().string();
   std::vector<char> text = read_file(file, max_bytes);
+  check_extent(text, limits, name);
   std::vector<char> original = text;
   rapidxml_ns::xml_document<> doc;
   parse(doc, text, name);
@@ -389,12 +524,12 @@ SvgDrawing read_svg(const fs::path& file, double tolerance_mm, uintmax_t max_byt
     const bool sized = root->first_attribute("width") && root->first_attribute("height");
     if (!sized && probe.has_viewbox) lengths.set_viewport_size(probe.viewbox_w, probe.viewbox_h);
 
-    Collector collector(lengths, tolerance_mm);
+    Collector collector(lengths, tolerance_mm, limits, name);
     svgpp::document_traversal<
         svgpp::processed_elements<ProcessedElements>,
         svgpp::processed_attributes<ProcessedAttributes>,
         svgpp::viewport_policy<svgpp::policy::viewport::calculate>,
-        svgpp::path_policy<svgpp::policy::path::minimal>,
+        svgpp::path_policy<PathPolicy>,
         svgpp::length_policy<svgpp::policy::length::forward_to_method<Collector>>,
         svgpp::transform_events_policy<svgpp::policy::transform_events::forward_to_method<Collector>>,
         svgpp::error_policy<lenient_errors<Collector>>>::load_document(
@@ -404,6 +539,12 @@ SvgDrawing read_svg(const fs::path& file, double tolerance_mm, uintmax_t max_byt
     if (sized || probe.has_viewbox) {
       drawing.width_mm = collector.root_w_px * kMmPerPx;
       drawing.height_mm = collector.root_h_px * kMmPerPx;
+      if (!std::isfinite(drawing.width_mm) || !std::isfinite(drawing.height_mm) ||
+          std::max(std::fabs(drawing.width_mm), std::fabs(drawing.height_mm)) > limits.max_coordinate_mm) {
+        throw ConvertError(name + ": the drawing's size " + number_text(drawing.width_mm) + " x " +
+                           number_text(drawing.height_mm) + " mm is beyond the limit of " +
+                           number_text(limits.max_coordinate_mm) + " mm");
+      }
     } else {
       for (const auto& s : drawing.shapes)
         for (const auto& p : s.paths)

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -23,6 +25,9 @@ namespace atelier {
 namespace {
 
 namespace fs = std::filesystem;
+
+// preview.png's size limit: 40 Mpx (120 MB of pixels), a 4000 x 10000 render.
+constexpr double kPreviewMaxPixels = 40e6;
 using Clock = std::chrono::steady_clock;
 
 // Wall time of each stage in milliseconds, in the order the stages ran.
@@ -65,6 +70,17 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   report_progress(req, 0.0);
 
   ImageHeader header = probe_image(req.input);
+  // The row limit from the header, before decoding (a tall picture is refused at once).
+  const long rows = knit::stitch_rows(static_cast<long>(header.width), static_cast<long>(header.height), p.gauge());
+  if (rows > knit::kMaxRows) {
+    char metres[32];
+    std::snprintf(metres, sizeof metres, "%.1f", knit::kMaxRows / p.rows_per_10cm / 10);
+    throw ConvertError(input_name + ": the pattern would have " + std::to_string(rows) + " rows of " +
+                       std::to_string(p.width) + " stitches, more than the limit of " +
+                       std::to_string(knit::kMaxRows) + " rows (" + metres + " m of fabric at " +
+                       std::to_string(static_cast<int>(std::lround(p.rows_per_10cm))) +
+                       " rows per 10 cm); lower the width or use a shorter picture");
+  }
   cv::Mat image = to_8bit(load_image(req.input, req.limits));
   timer.done("load");
   report_progress(req, 0.05);
@@ -120,8 +136,14 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   knit::PreviewStyle style;
   style.background = bgr(p.rgb[0]);
   style.contrast = bgr(p.rgb[1]);
-  style.stitch_px = std::clamp(4000 / grid.cols, 4, 12);  // keeps the render near 4000 px
+  style.stitch_px = std::clamp(4000 / grid.cols, 1, 12);  // keeps the render near 4000 px wide
   style.stitch_aspect = p.stitches_per_10cm / p.rows_per_10cm;
+  // ... and within kPreviewMaxPixels, smaller stitches for long patterns.
+  auto preview_pixels = [&](int w) {
+    const double h = std::max(1.0, std::round(w * style.stitch_aspect));
+    return static_cast<double>(grid.cols) * w * grid.rows * h;
+  };
+  while (style.stitch_px > 1 && preview_pixels(style.stitch_px) > kPreviewMaxPixels) --style.stitch_px;
   write_output_png(out / "preview.png", knit::render_preview(grid, style));
   timer.done("preview_png");
   report_progress(req, 0.85);

@@ -44,7 +44,10 @@ std::optional<Message> HostSession::receive(Clock::time_point deadline) {
     if (!pending_.empty()) {
       Message m = std::move(pending_.front());
       pending_.pop_front();
-      if (const auto* s = std::get_if<IndState>(&m)) last_state_ = *s;
+      if (const auto* s = std::get_if<IndState>(&m)) {
+        last_state_ = *s;
+        state_seen_ = true;
+      }
       return m;
     }
     const auto now = clock_.now();
@@ -61,6 +64,7 @@ std::optional<Message> HostSession::receive(Clock::time_point deadline) {
 
 CnfInfo HostSession::connect() {
   link_.flush_input();
+  state_seen_ = false;
   decoder_ = SlipDecoder();
   pending_.clear();
   const auto deadline = clock_.now() + timeouts_.boot;
@@ -84,6 +88,7 @@ CnfInfo HostSession::connect() {
 
 void HostSession::init(MachineType machine) {
   line_bytes_ = line_bytes(machine);
+  started_ = false;
   const auto give_up = clock_.now() + timeouts_.silent;
   bool confirmed = false;
   while (!confirmed) {
@@ -97,7 +102,10 @@ void HostSession::init(MachineType machine) {
       if (!c) continue;
       // Wrong state: the firmware is initialised already (the port was opened without
       // resetting the board, e.g. after a previous job). It knows its machine; go on to start.
-      if (c->error >= err::wrong_state && c->error <= 0xEF) return;
+      if (c->error >= err::wrong_state && c->error <= 0xEF) {
+        reset_ = false;
+        return;
+      }
       if (c->error != err::success)
         throw AyabError("the knitting machine refused initialisation as " + machine_name(machine) + ": " +
                         error_text(c->error));
@@ -105,15 +113,71 @@ void HostSession::init(MachineType machine) {
       break;
     }
   }
-  // The carriage must pass a turn mark; a person does that, so the wait may be long.
+  reset_ = true;
+  wait_ready();
+}
+
+void HostSession::wait_ready() {
+  // The carriage must pass a turn mark; a person does that, so the wait may be long, but only
+  // as long as the machine is there: after `silent` without a word, a reqInfo must be answered.
   // Firmware versions differ in the state they report with it (init or ready): error 0 counts.
   const auto deadline = timeouts_.ready.count() == 0 ? Clock::time_point::max() : clock_.now() + timeouts_.ready;
-  while (auto m = receive(deadline)) {
-    const auto* s = std::get_if<IndState>(&*m);
-    if (s && s->error == err::success && (s->state == FsmState::ready || s->state == FsmState::init)) return;
+  auto last_rx = clock_.now();
+  std::optional<Clock::time_point> probe_until;
+  for (;;) {
+    const auto silent_at = probe_until ? *probe_until : last_rx + timeouts_.silent;
+    auto m = receive(std::min(deadline, silent_at));
+    const auto now = clock_.now();
+    if (!m) {
+      if (now >= deadline)
+        throw AyabError("the knitting machine did not become ready within " + seconds_text(timeouts_.ready) +
+                        ": move the carriage across the turn mark");
+      if (probe_until)
+        throw AyabError("the knitting machine stopped answering while waiting for the carriage to cross the turn "
+                        "mark (no answer to an info request within " + seconds_text(timeouts_.reply) + ")");
+      send(ReqInfo{});
+      probe_until = now + timeouts_.reply;
+      continue;
+    }
+    last_rx = now;
+    probe_until.reset();
+    const auto* st = std::get_if<IndState>(&*m);
+    if (st && st->error == err::success && (st->state == FsmState::ready || st->state == FsmState::init)) return;
   }
-  throw AyabError("the knitting machine did not become ready within " + seconds_text(timeouts_.ready) +
-                  ": move the carriage across the turn mark");
+}
+
+void HostSession::start(const KnitPlan& plan) {
+  line_bytes_ = line_bytes(plan.machine);
+  const ReqStart request{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false,
+                         true};
+  send(request);
+  const auto deadline = clock_.now() + timeouts_.reply;
+  for (;;) {
+    auto m = receive(deadline);
+    if (!m)
+      throw AyabError("the knitting machine did not answer the start request within " + seconds_text(timeouts_.reply));
+    if (const auto* c = std::get_if<CnfStart>(&*m)) {
+      if (c->error == err::success) break;
+      if (c->error >= err::wrong_state && c->error <= 0xEF) {
+        // Firmware 1.0 does not say which state it is in; what this session saw does.
+        std::string state = error_text(c->error);
+        if (state_seen_) state += ", last reported in state " + state_name(last_state_.state);
+        if (!reset_) state += "; it was not reset when the port opened and is still in an earlier session's state";
+        throw StartRefused(c->error, "the knitting machine refused to start: " + state +
+                                         "; reset it (the reset button on its Arduino, or unplug it for a moment; "
+                                         "if its carriage has not crossed a turn mark since the last job, move it "
+                                         "across one) and retry the job");
+      }
+      throw StartRefused(c->error, "the knitting machine refused to start knitting needles " +
+                                       std::to_string(plan.start_needle) + ".." + std::to_string(plan.stop_needle) +
+                                       ": " + error_text(c->error));
+    }
+    if (std::holds_alternative<ReqLine>(*m)) {
+      pending_.push_front(std::move(*m));  // cnfStart lost, but the machine is knitting: go on
+      break;
+    }
+  }
+  started_ = true;
 }
 
 int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<void(const KnitProgress&)>& on_pass,
@@ -131,41 +195,8 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     return plan.pattern_row[passes];
   };
   line_bytes_ = line_bytes(plan.machine);
-
-  const ReqStart start{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false, true};
-  send(start);
-  auto start_deadline = clock_.now() + timeouts_.reply;
-  for (bool started = false; !started;) {
-    auto m = receive(start_deadline);
-    if (!m)
-      throw AyabError("the knitting machine did not answer the start request within " + seconds_text(timeouts_.reply));
-    if (const auto* c = std::get_if<CnfStart>(&*m)) {
-      if (c->error >= err::wrong_state && c->error <= 0xEF) {
-        // Not ready yet (an initialised machine whose carriage has not passed the turn mark
-        // since the last job): wait for the ready indState, then ask again.
-        const auto ready_by = timeouts_.ready.count() == 0 ? Clock::time_point::max() : clock_.now() + timeouts_.ready;
-        bool ready = false;
-        while (!ready) {
-          auto r = receive(ready_by);
-          if (!r)
-            throw AyabError("the knitting machine did not become ready within " + seconds_text(timeouts_.ready) +
-                            ": move the carriage across the turn mark");
-          const auto* st = std::get_if<IndState>(&*r);
-          ready = st && st->error == err::success;
-        }
-        send(start);
-        start_deadline = clock_.now() + timeouts_.reply;
-        continue;
-      }
-      if (c->error != err::success)
-        throw AyabError("the knitting machine refused to start knitting needles " + std::to_string(plan.start_needle) +
-                        ".." + std::to_string(plan.stop_needle) + ": " + error_text(c->error));
-      started = true;
-    } else if (std::holds_alternative<ReqLine>(*m)) {
-      pending_.push_front(std::move(*m));  // cnfStart lost, but the machine is knitting: go on
-      started = true;
-    }
-  }
+  if (!started_) start(plan);
+  started_ = false;  // a next knit() starts again
 
   LineTracker tracker;
   int done = from_pass;

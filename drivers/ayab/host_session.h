@@ -4,6 +4,10 @@
 //
 // Time: deadlines and timeouts are on the Clock given (real_clock() in the daemon); the
 // transport's reads must wait on the same clock (a SimulatedTransport on a FakeClock in tests).
+// No wait is unbounded: each has a timeout below, and the waits for a person (the carriage
+// across a turn mark, a pause between rows) last as long as the knitter likes only while the
+// machine is alive - after `silent` without a word the session asks for cnfInfo, and a machine
+// that does not answer within `reply` fails the wait.
 // Threading: one HostSession per transport, used from one thread (the device worker).
 // Errors: LinkLost (from the transport) when the machine goes away; AyabError for protocol
 // failures (API mismatch, firmware errors, out-of-sequence requests, timeouts) with a
@@ -30,11 +34,23 @@ class AyabError : public DeviceError {
   using DeviceError::DeviceError;
 };
 
+// The firmware refused reqStart (cnfStart with an error). Firmware 1.0 answers 0xEF
+// (wrong_machine_state) outside its ready state, e.g. a board that was not reset when the port
+// opened and still knits an earlier session's pattern: resetting the board (Transport::pulse_dtr)
+// and a new connect/init/start may recover. what(): "the knitting machine refused to start:
+// <error and state>; <what to do>".
+class StartRefused : public AyabError {
+ public:
+  StartRefused(uint8_t code, const std::string& message) : AyabError(message), code(code) {}
+  uint8_t code;
+  bool wrong_state() const { return code >= err::wrong_state && code <= 0xEF; }
+};
+
 struct SessionTimeouts {
   std::chrono::milliseconds boot{5000};        // first cnfInfo after opening (Arduino reset ~2 s)
   std::chrono::milliseconds info_retry{100};   // reqInfo repeat interval while booting
   std::chrono::milliseconds reply{1000};       // cnfInit / cnfStart
-  std::chrono::milliseconds ready{0};          // indState ready after init; 0 = wait forever
+  std::chrono::milliseconds ready{0};          // indState ready after init; 0 = as long as the machine answers
   std::chrono::milliseconds line_resend{500};  // no next reqLine this long: re-send the cnfLine
   std::chrono::milliseconds silent{10000};     // nothing at all from the machine this long: fail
 };
@@ -52,8 +68,14 @@ class HostSession {
   // reqInfo until cnfInfo (tolerating the boot delay); throws AyabError for api < 6.
   CnfInfo connect();
   // reqInit(machine) until cnfInit; then waits for indState ready (carriage past a turn mark).
+  // A firmware that answers wrong state is initialised already (the board was not reset when
+  // the port opened): init() returns at once and was_reset() is false.
   void init(MachineType machine);
-  // Knits plan.passes[from_pass ...]: reqStart with the plan's needle range, then answers each
+  bool was_reset() const { return reset_; }
+  // reqStart with the plan's needle range, until cnfStart (or a reqLine, if the cnfStart was
+  // lost). Throws StartRefused for an error, AyabError when nothing answers within `reply`.
+  void start(const KnitPlan& plan);
+  // Knits plan.passes[from_pass ...]: start(plan) unless it was called, then answers each
   // reqLine. `on_pass` is called after each pass the firmware has confirmed by asking for the
   // next line. When `cancel` becomes true the session answers the next request with the blank
   // last line (the machine ends cleanly) and returns early. Returns the passes done in total
@@ -68,6 +90,9 @@ class HostSession {
   void send(const Message& m);
   // The next valid message, or nullopt once `deadline` passes. Records indState.
   std::optional<Message> receive(Clock::time_point deadline);
+  // Waits for an indState ready (error 0) after init: until `ready`, or while the machine
+  // answers cnfInfo when asked after `silent` of silence (ready = 0). Throws AyabError.
+  void wait_ready();
 
   Transport& link_;
   SessionTimeouts timeouts_;
@@ -76,6 +101,9 @@ class HostSession {
   SlipDecoder decoder_;           // one byte stream across connect/init/knit
   std::deque<Message> pending_;   // decoded, not yet consumed
   int line_bytes_ = 25;           // needle data bytes of the machine given to init()
+  bool reset_ = true;             // the last init() found the firmware freshly booted
+  bool started_ = false;          // start() succeeded; knit() does not ask again
+  bool state_seen_ = false;       // an indState arrived since connect()
 };
 
 }  // namespace atelier::ayab

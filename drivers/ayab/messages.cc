@@ -52,6 +52,18 @@ std::string machine_display_name(MachineType m) {
   return out + "-" + n.substr(2);
 }
 
+std::string state_name(FsmState s) {
+  switch (s) {
+    case FsmState::wait_for_machine: return "wait-for-machine";
+    case FsmState::init: return "init";
+    case FsmState::ready: return "ready";
+    case FsmState::knit: return "knitting";
+    case FsmState::test: return "test";
+    case FsmState::error: return "error";
+  }
+  return "state " + std::to_string(static_cast<int>(s));
+}
+
 std::string error_text(uint8_t code) {
   char hex[8];
   std::snprintf(hex, sizeof hex, "0x%02x", code);

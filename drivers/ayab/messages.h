@@ -37,6 +37,7 @@ std::string machine_name(MachineType m);
 std::string machine_display_name(MachineType m);
 
 enum class FsmState : uint8_t { wait_for_machine = 0, init = 1, ready = 2, knit = 3, test = 4, error = 5 };
+std::string state_name(FsmState s);  // "wait-for-machine", "init", "ready", "knitting", "test", "error", "state N"
 enum class Carriage : uint8_t { knit = 0, lace = 1, garter = 2, none = 0xFF };
 enum class Direction : uint8_t { left = 0, right = 1, unknown = 0xFF };
 
@@ -45,10 +46,14 @@ namespace err {
 constexpr uint8_t success = 0x00;
 constexpr uint8_t too_short = 0x01;  // 0x01..0x04: malformed message
 constexpr uint8_t bad_id = 0x02;
-constexpr uint8_t bad_crc = 0x03;
+constexpr uint8_t bad_crc = 0x04;         // firmware 1.0's checksum_error (0x03: unexpected id)
 constexpr uint8_t bad_argument = 0x10;    // 0x10..0x13
+constexpr uint8_t bad_needles = 0x11;     // firmware 1.0's needle_value_invalid (reqStart range)
 constexpr uint8_t not_initialised = 0x20; // 0x20..0x23
 constexpr uint8_t wrong_state = 0xE0;     // 0xE0..0xEF
+// What firmware 1.0 answers reqInit outside wait-for-machine and reqStart outside ready
+// (Knitter::initMachine/startKnitting): one code for every wrong state, which it does not name.
+constexpr uint8_t wrong_machine_state = 0xEF;
 constexpr uint8_t generic = 0xF0;
 }  // namespace err
 std::string error_text(uint8_t code);  // "wrong machine state (0xe0)" etc.

@@ -2,6 +2,7 @@
 // emulator's record of what the beam did is compared with what the SVG asked for.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <fstream>
 #include <iostream>
@@ -223,6 +224,51 @@ TEST(E2ELaser, CancelAtGrblsStockAccelerationStillTurnsTheBeamOffWithin100Millis
   std::string reason;
   EXPECT_LT(cancel_mid_job(rig, "line.svg", 3, reason), 0.1);
   EXPECT_NE(reason.find("position may be lost"), std::string::npos) << reason;
+}
+
+TEST(E2ELaser, KillingTheDaemonMidJobTurnsTheBeamOffWithin50Milliseconds) {
+  // The daemon dies (kill -9) while the laser burns one long cut (76 s at 300 mm/min, all of
+  // it queued in the controller): the kernel closes the port, which drops DTR, and the board
+  // restarts - beam off - instead of burning out its queue unattended.
+  LaserRig rig({}, kSlowCutLayers, 1.0);
+  const fs::path line = rig.tmp.path() / "line.svg";
+  atelier::test::write_file(line, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"400mm\" height=\"400mm\" "
+                                  "viewBox=\"0 0 400 400\"><path d=\"M 10 390 L 390 390\" stroke=\"#000000\" "
+                                  "fill=\"none\"/></svg>\n");
+  atelier::test::drop_file(line, rig.daemon->incoming("cut") / "line.svg");
+  ASSERT_TRUE(rig.wait_state("line.svg", "ready")) << rig.daemon->log();
+  ASSERT_TRUE(rig.ctl("start", rig.job("line.svg")["id"])["ok"]);
+  // Burning: the emulator's record (saved every 0.5 s while it moves) shows the beam on.
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    std::ifstream in(rig.record);
+    const json rec = json::parse(in, nullptr, false);
+    if (rec.is_discarded()) return false;
+    for (const auto& s : rec["segments"])
+      if (burned(s)) return true;
+    return false;
+  }, std::chrono::seconds(30))) << rig.job("line.svg").dump() << rig.daemon->log();
+
+  // The box is shared: give the processes under test priority (where allowed), so what is
+  // measured is the daemon's death and the emulator's answer to it, not other load.
+  for (const pid_t pid : {rig.daemon->pid(), rig.emulator->pid()})
+    for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task"))
+      ::setpriority(PRIO_PROCESS, static_cast<id_t>(std::stoi(task.path().filename().string())), -10);
+  const double killed = now_s();
+  rig.daemon->stop(SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // what the beam does next is recorded
+  const json rec = rig.finish();
+
+  double last_burn = 0, hangup = 0;
+  for (const auto& s : rec["segments"])
+    if (burned(s)) last_burn = std::max(last_burn, s["t1"].get<double>());
+  for (const auto& e : rec["events"])
+    if (e["event"] == "hangup") hangup = e["t"].get<double>();
+  ASSERT_GT(hangup, 0) << "the emulator never saw the port close: " << rec["events"].dump();
+  EXPECT_GE(hangup, killed - 0.001);
+  EXPECT_GE(last_burn, killed - 0.001) << "the beam was not burning when the daemon was killed";
+  std::cout << "beam off " << (last_burn - killed) * 1000 << " ms after kill -9 (hangup seen after "
+            << (hangup - killed) * 1000 << " ms)\n";
+  EXPECT_LT(last_burn - killed, 0.050);
 }
 
 TEST(E2ELaser, AnAlarmFailsTheJobWithItsMeaning) {

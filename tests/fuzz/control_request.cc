@@ -10,7 +10,7 @@ int fuzz_control_request(const uint8_t* data, size_t size) {
   if (size > atelier::fuzz::kMaxFuzzInput) return 0;
   const std::string line(reinterpret_cast<const char*>(data), size);
   try {
-    const atelier::ControlRequest r = atelier::parse_request(line);
+    const atelier::ParsedRequest r = atelier::parse_request(line);
     (void)r.args.dump();
   } catch (const atelier::ControlError& e) {
     const nlohmann::json reply = {{"ok", false}, {"error", e.what()}};

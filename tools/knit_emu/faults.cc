@@ -16,6 +16,10 @@ bool parse_int(const std::string& s, int64_t min, int64_t& out) {
 
 std::string apply_fault(const std::string& spec, Faults& f) {
   const std::string where = "--fault " + spec + ": ";
+  if (spec == "no-dtr-reset") {
+    f.dtr_reset = false;
+    return "";
+  }
   const auto eq = spec.find('=');
   if (eq == std::string::npos) return where + "expected NAME=VALUE";
   const std::string name = spec.substr(0, eq), value = spec.substr(eq + 1);
@@ -67,7 +71,7 @@ std::string apply_fault(const std::string& spec, Faults& f) {
     f.delay_ms = n;
     return "";
   }
-  return where + "unknown fault (drop-after-row, replug-ms, corrupt, seed, silent-after-row, api, delay-ms)";
+  return where + "unknown fault (drop-after-row, replug-ms, corrupt, seed, silent-after-row, api, delay-ms, no-dtr-reset)";
 }
 
 }  // namespace atelier::knit_emu

@@ -11,6 +11,9 @@
 //   silent-after-row=N    after row N is recorded the firmware answers nothing any more
 //   api=V                 cnfInfo reports API version V (e.g. 5) instead of 6
 //   delay-ms=N            every reply leaves the firmware N ms after the event that caused it
+//   no-dtr-reset          the board does not reset when DTR drops (its auto-reset is cut or
+//                         disabled): the firmware keeps its state (e.g. knit) when the host
+//                         closes the port or dies, and the next host finds it there
 #pragma once
 
 #include <cstdint>
@@ -27,6 +30,7 @@ struct Faults {
   std::optional<int> silent_after_row;
   uint8_t api = 6;
   int64_t delay_ms = 0;
+  bool dtr_reset = true;  // false: no-dtr-reset
 };
 
 // Applies one SPEC to `faults`. Returns an empty string on success, else a message naming the

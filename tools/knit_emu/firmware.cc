@@ -72,7 +72,7 @@ void Firmware::handle_packet(const ab::Bytes& p) {
     send(ab::CnfInfo{opt_.faults.api, 1, 0, 0, opt_.suffix});
   } else if (const auto* init = std::get_if<ab::ReqInit>(&m)) {
     if (state_ != ab::FsmState::wait_for_machine) {
-      send(ab::CnfInit{ab::err::wrong_state});
+      send(ab::CnfInit{ab::err::wrong_machine_state});
     } else if (init->machine != opt_.machine) {
       send(ab::CnfInit{ab::err::bad_argument});
     } else {
@@ -84,10 +84,10 @@ void Firmware::handle_packet(const ab::Bytes& p) {
     }
   } else if (const auto* start = std::get_if<ab::ReqStart>(&m)) {
     if (state_ != ab::FsmState::ready) {
-      send(ab::CnfStart{ab::err::wrong_state});
+      send(ab::CnfStart{ab::err::wrong_machine_state});
     } else if (!(start->start_needle < start->stop_needle &&
                  start->stop_needle < ab::needle_count(opt_.machine))) {
-      send(ab::CnfStart{ab::err::bad_argument});
+      send(ab::CnfStart{ab::err::bad_needles});
     } else {
       start_needle_ = start->start_needle;
       stop_needle_ = start->stop_needle;

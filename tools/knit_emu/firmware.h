@@ -13,10 +13,11 @@
 //   job needs only a new reqStart after the next ready indState; reqInit is accepted only in
 //   wait-for-machine, as on the real firmware (a fresh boot is the only way back there).
 // - reqInfo is answered in every state: cnfInfo(api, fw 1.0.0, suffix "atelier-emu").
-// - reqInit: outside wait-for-machine -> cnfInit(0xE0 wrong state); machine type other than the
-//   emulated one -> cnfInit(0x10 bad argument); too short -> cnfInit(0x01); bad CRC ->
-//   cnfInit(0x03). reqStart likewise with cnfStart: not ready -> 0xE0, range not
-//   start < stop < needle count -> 0x10, too short 0x01, bad CRC 0x03. On success cnfStart(0)
+// - reqInit: outside wait-for-machine -> cnfInit(0xEF wrong_machine_state, firmware 1.0's one
+//   code for every wrong state); machine type other than the emulated one -> cnfInit(0x10 bad
+//   argument); too short -> cnfInit(0x01); bad CRC -> cnfInit(0x04). reqStart likewise with
+//   cnfStart: not ready (wait-for-machine, init, knit, ...) -> 0xEF, range not
+//   start < stop < needle count -> 0x11, too short 0x01, bad CRC 0x04. On success cnfStart(0)
 //   and at once reqLine(0).
 // - cnfLine: too short or bad CRC -> silently dropped (no reply, like the firmware). Outside
 //   knit state, or while the carriage is still knitting the previous row (no line requested):
@@ -31,6 +32,8 @@
 // - reqTest: the hardware test mode is not emulated; answered cnfTest(0xF0).
 // - Boot (boot_ms > 0): the first byte received is taken as the port being opened (an Arduino
 //   resets then); everything received during the following boot_ms is lost.
+// - A reset (DTR dropped: the host closed the port or died; unless the no-dtr-reset fault says
+//   the board is not wired for it) is a new Firmware: the program around the model makes one.
 #pragma once
 
 #include <cstdint>

@@ -40,7 +40,8 @@ Controller::Controller(ControllerOptions options, Record& record, int64_t now_us
   record_.work_h_mm = options.work_h_mm;
   motion_.advance(now_);
   tx_head_ns_ = static_cast<double>(now_);
-  reinitialise();
+  reinitialise(!options.banner_waits_for_host);
+  banner_owed_ = options.banner_waits_for_host;
 }
 
 // ---------------------------------------------------------------- serial side
@@ -511,7 +512,7 @@ void Controller::soft_reset() {
   reinitialise();
 }
 
-void Controller::reinitialise() {
+void Controller::reinitialise(bool announce) {
   rx_.clear();
   line_.clear();
   comment_paren_ = comment_semi_ = line_overflow_ = false;
@@ -525,9 +526,10 @@ void Controller::reinitialise() {
   wco_counter_ = ovr_counter_ = 0;
   gc_ = GcState{};
   gc_.position = motion_.position();
+  if (state_ != MachineState::alarm) state_ = MachineState::idle;
+  if (!announce) return;
   emit(kBanner);
   if (state_ == MachineState::alarm) emit("[MSG:'$H'|'$X' to unlock]\r\n");
-  else state_ = MachineState::idle;
 }
 
 std::string Controller::state_name() const {
@@ -587,6 +589,30 @@ Record Controller::snapshot() const {
   Record r = record_;
   if (auto s = motion_.open_segment(now_)) r.segments.push_back(*s);
   return r;
+}
+
+void Controller::hangup(int64_t now_us) {
+  advance_motion(std::max(now_, now_us * 1000));
+  record_.add_event(epoch(now_), "hangup");
+  motion_.stop(now_);  // the MCU restarts: steppers and PWM off at once
+  motion_.set_position(Vec3{});
+  incoming_.clear();
+  last_arrival_ns_ = static_cast<double>(now_);
+  tx_.clear();
+  tx_blocked_ = false;
+  isr_lines_ = 0;
+  critical_ = false;
+  state_ = settings_.homing() ? MachineState::alarm : MachineState::idle;
+  reinitialise(false);
+  banner_owed_ = true;
+}
+
+void Controller::host_connected(int64_t now_us) {
+  advance_to(now_us);
+  if (!banner_owed_) return;
+  banner_owed_ = false;
+  emit(kBanner);
+  if (state_ == MachineState::alarm) emit("[MSG:'$H'|'$X' to unlock]\r\n");
 }
 
 void Controller::power_off() {

@@ -70,6 +70,9 @@ struct ControllerOptions {
   // uses it for a stalled link and for the moment before it pulls the cable.
   std::optional<long> halt_after_line;
   double epoch_at_zero_s = 0;  // unix time (s) of clock value 0, for the record's times
+  // The power-on banner waits for host_connected() (a program on a pty that no host has
+  // opened yet: an Uno prints it after the reset that opening the port causes).
+  bool banner_waits_for_host = false;
 };
 
 enum class MachineState { idle, run, hold, alarm, check };
@@ -81,7 +84,7 @@ class Controller {
   static constexpr int kLineBufferSize = 80;  // LINE_BUFFER_SIZE, terminator included
   static constexpr const char* kBanner = "\r\nGrbl 1.1h ['$' for help]\r\n";
 
-  // Power-on at `now_us`: the banner is the first output.
+  // Power-on at `now_us`: the banner is the first output (see banner_waits_for_host).
   Controller(ControllerOptions options, Record& record, int64_t now_us);
 
   // The host wrote `bytes` at `now_us` (>= the last call's time). They arrive at the serial
@@ -116,6 +119,15 @@ class Controller {
   Record snapshot() const;
   // The board loses power (cable pulled): the head stops dead and the beam goes off now.
   void power_off();
+  // The host dropped DTR (closed the port, or died): an Uno's auto-reset restarts the board
+  // now. Head stopped dead, beam off, planner, receive buffer, bytes on the wire and unsent
+  // output discarded, parser modes and position back to power-up (0,0,0), state Alarm if
+  // homing is enabled ($22=1, "[MSG:'$H'|'$X' to unlock]") else Idle. Recorded as a "hangup"
+  // event then the reset's "beam_off" (if it was on). The banner comes with host_connected().
+  // Settings ($$, like GRBL's EEPROM) and the halt fault stay.
+  void hangup(int64_t now_us);
+  // A host opened the port: after a hangup() the restarted board's banner goes out now.
+  void host_connected(int64_t now_us);
 
  private:
   // Serial side.
@@ -138,7 +150,7 @@ class Controller {
   void soft_reset();
   void raise_alarm(int code);
   bool outside_limits(const Vec3& target) const;
-  void reinitialise();  // what GRBL's main() does after every reset
+  void reinitialise(bool announce = true);  // what GRBL's main() does after every reset; the banner if `announce`
   std::string status_report();
   double epoch(int64_t t) const { return opt_.epoch_at_zero_s + static_cast<double>(t) * 1e-9; }
 
@@ -168,6 +180,7 @@ class Controller {
   bool action_checked_ = false;     // soft limits checked for actions_.front()
   std::optional<int64_t> dwell_until_;
   bool reset_after_response_ = false;
+  bool banner_owed_ = false;        // restarted by a hangup: the banner waits for a host
   long lines_received_ = 0, last_acked_line_ = 0, lines_acked_ = 0;
 
   MachineState state_ = MachineState::idle;

@@ -1,7 +1,9 @@
 #include "tools/laser_emu/gcode.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 
 namespace atelier::laser_emu {
 namespace {
@@ -20,6 +22,8 @@ enum : int {
 constexpr double kMmPerInch = 25.4;
 constexpr double kMaxLineNumber = 10000000.0;  // GRBL: N <= 9999999
 constexpr double kArcAngularEpsilon = 5e-7;
+constexpr double kMaxCommandNumber = 255;  // GRBL reads G/M numbers into a uint8
+constexpr double kMaxArcSegments = 65535;  // GRBL counts arc chords in a uint16
 
 // Modal groups (bit numbers as in gcode.h) and value words.
 enum ModalGroup { G0 = 0, G1, G2, G3, G4, G5, G6, G7, G8, G12, G13, M4, M7, M8 };
@@ -31,18 +35,23 @@ enum class NonModal { none, dwell, absolute_override, set_offset, reset_offset }
 }  // namespace
 
 bool read_grbl_float(const std::string& line, size_t& pos, double& value) {
+  constexpr int kMaxIntDigits = 8;  // GRBL's MAX_INT_DIGITS: digits kept in its uint32
   size_t p = pos;
   bool negative = false;
   if (p < line.size() && (line[p] == '-' || line[p] == '+')) negative = line[p++] == '-';
-  double intval = 0;
+  uint32_t intval = 0;
   int exp = 0, ndigit = 0;
   bool decimal = false;
   for (; p < line.size(); ++p) {
     const char c = line[p];
     if (c >= '0' && c <= '9') {
       ++ndigit;
-      intval = intval * 10 + (c - '0');
-      if (decimal) --exp;
+      if (ndigit <= kMaxIntDigits) {
+        if (decimal) --exp;
+        intval = intval * 10 + static_cast<uint32_t>(c - '0');
+      } else if (!decimal) {
+        ++exp;  // a dropped integer digit still counts
+      }
     } else if (c == '.' && !decimal) {
       decimal = true;
     } else {
@@ -50,8 +59,9 @@ bool read_grbl_float(const std::string& line, size_t& pos, double& value) {
     }
   }
   if (ndigit == 0) return false;
-  value = intval * std::pow(10.0, exp);
-  if (negative) value = -value;
+  const double v = static_cast<double>(intval) * std::pow(10.0, exp);
+  if (!(v <= std::numeric_limits<float>::max())) return false;
+  value = negative ? -v : v;
   pos = p;
   return true;
 }
@@ -93,8 +103,11 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
     double value = 0;
     if (!read_grbl_float(line, pos, value)) return fail(kBadNumberFormat);
     const double int_value = std::trunc(value);
+    // value is finite and below 3.4e38 (read_grbl_float), so this difference is in [0, 1).
     int mantissa = static_cast<int>(std::lround(100 * (value - int_value)));
     int group = -1;
+    // G and M numbers are cast to int below: out of GRBL's uint8 range is unsupported.
+    if ((letter == 'G' || letter == 'M') && int_value > kMaxCommandNumber) return fail(kUnsupportedCommand);
     if (letter == 'G') {
       if (value < 0) return fail(kUnsupportedCommand);
       switch (static_cast<int>(int_value)) {
@@ -389,8 +402,10 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
         travel += 2 * M_PI;
       }
       const double tol = settings.get(12);
-      const int segments = static_cast<int>(
-          std::floor(std::fabs(0.5 * travel * arc_radius) / std::sqrt(tol * (2 * arc_radius - tol))));
+      const double chords =
+          std::floor(std::fabs(0.5 * travel * arc_radius) / std::sqrt(tol * (2 * arc_radius - tol)));
+      if (!(chords <= kMaxArcSegments)) return fail(kInvalidTarget);  // also NaN
+      const int segments = static_cast<int>(chords);
       // Inverse time is per line: each of n chords gets 1/n of the arc's time.
       const bool inverse = next.inverse_time;
       const double rate = segments > 0 && inverse ? feed * segments : feed;

@@ -79,6 +79,14 @@ struct LineResult {
 LineResult execute_gcode_line(const std::string& line, GcState& state, const Settings& settings);
 
 // GRBL's read_float(): optional sign, digits, at most one '.', no exponent. Advances `pos`.
+// As in GRBL, only the first 8 digits are significant (further integer digits scale by 10,
+// further decimals are dropped), so no digit string overflows. A value beyond a float's range
+// (|v| > 3.4e38, where GRBL's float would be infinite) is refused: false, GRBL's error:2.
+//
+// Numbers that would be cast to an integer are range-checked first (never undefined
+// behaviour): a G or M command number above 255 (GRBL keeps it in a uint8) is error:20,
+// unsupported command; T above 255 error:38; N of 10^7 or more error:27; an arc that would
+// need more chords than GRBL's uint16 segment counter holds (65535) error:33, invalid target.
 bool read_grbl_float(const std::string& line, size_t& pos, double& value);
 
 }  // namespace atelier::laser_emu

@@ -12,6 +12,7 @@
 // M4 power is already scaled by actual/programmed speed, the deceleration's average is used),
 // mode "M3"|"M4"|"off", s the programmed S of the block, feed its speed in mm/min.
 // Events: hold, resume, reset, alarm(code), beam_off, overflow(line), error(code,line),
+// hangup (the host closed the port or died: DTR dropped, the board restarted),
 // drop, replug.
 // Plain value types; not thread-safe. Rendering is pure (no file I/O).
 #pragma once

@@ -73,8 +73,8 @@ int Settings::store(double param, double value) {
   for (const auto& e : kEntries)
     if (e.id == id) known = true, fmt = e.fmt;
   if (!known) return kInvalidStatement;
-  // Integer settings keep the truncated value modulo 256 (GRBL stores them in a uint8), so
-  // that every later cast to int (listing, masks) is in range.
+  // Integer settings keep the truncated value in a uint8, as GRBL does (300 is stored as 44):
+  // never a value an int cast of it could overflow on.
   const double v = fmt == Fmt::integer ? std::fmod(std::trunc(value), 256.0) : value;
   switch (id) {
     case 0:

@@ -34,8 +34,15 @@ TEST(Config, ThreeLinesAreEnoughAndEverythingElseHasDefaults) {
   EXPECT_EQ(c.job_timeout_s, 600);
   EXPECT_EQ(c.limits.max_pixels, 40000000u);
   EXPECT_EQ(c.limits.max_file_bytes, 209715200u);
+  EXPECT_EQ(c.job_memory_mb, 2048);
   EXPECT_TRUE(c.devices.empty());
   EXPECT_TRUE(c.kind_defaults.count("knit"));
+}
+
+TEST(Config, JobMemoryBudgetIsALimitsKeyWithABound) {
+  EXPECT_EQ(parse_config("[spool]\ndir = \"/s\"\n[limits]\njob_memory_mb = 700\n", "a.toml").job_memory_mb, 700);
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[limits]\njob_memory_mb = 10\n");
+  EXPECT_NE(e.find("limits.job_memory_mb"), std::string::npos) << e;
 }
 
 TEST(Config, RelativePathsFollowTheConfigFile) {

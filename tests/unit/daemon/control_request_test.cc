@@ -32,7 +32,7 @@ std::string nested_args(int depth) {
 }
 
 TEST(ParseRequest, ReadsVerbAndArgs) {
-  ControlRequest r = parse_request(R"({"verb":"list","args":{"state":"failed","ids":[[1,2],[3]]}})");
+  ParsedRequest r = parse_request(R"({"verb":"list","args":{"state":"failed","ids":[[1,2],[3]]}})");
   EXPECT_EQ(r.verb, "list");
   EXPECT_EQ(r.args["state"], "failed");
   EXPECT_EQ(r.args["ids"][1][0], 3);
@@ -88,8 +88,8 @@ class ControlServerLines : public ::testing::Test {
 };
 
 TEST_F(ControlServerLines, ADeeplyNestedRequestIsRefusedAndTheServerGoesOn) {
-  ControlServer server(socket_path(), "", [](const std::string& verb, const nlohmann::json&) {
-    return nlohmann::json(verb);
+  ControlServer server(socket_path(), "", [](ControlRequest& request) {
+    return nlohmann::json(request.verb);
   });
   server.start();
   const nlohmann::json refused = send(nested_args(400000));  // 800 KB, under the 1 MB line cap

@@ -56,6 +56,29 @@ TEST(ConversionRunner, PassesDefaultsOnStdinAndOverridesAsSetAndReportsProgress)
   EXPECT_NE(args.find("--params /dev/stdin"), std::string::npos) << args;
   EXPECT_NE(args.find("--set solver=\"gsat\""), std::string::npos) << args;
   EXPECT_NE(args.find("--max-pixels 40000000"), std::string::npos) << args;
+  EXPECT_NE(args.find("--memory-mb 2048"), std::string::npos) << args;  // the default budget
+}
+
+TEST(ConversionRunner, AConverterKilledForMemoryNamesTheInputAndTheBudget) {
+  atelier::test::TempDir tmp;
+  // The kernel's OOM killer sends SIGKILL; the runner did not (no timeout, no cancel).
+  SubprocessRunner runner(script(tmp.path(), "kill -KILL $$"), 512ull << 20);
+  std::atomic<bool> cancel{false};
+  auto out = runner.run(task(tmp.path()), nullptr, cancel);
+  EXPECT_EQ(out.status, ConversionOutcome::Status::failed);
+  EXPECT_EQ(out.message.rfind("in.png: needs more than 512 MB (limits.job_memory_mb)", 0), 0u) << out.message;
+}
+
+TEST(ConversionRunner, TheBudgetIsTheChildsAddressSpaceLimit) {
+  atelier::test::TempDir tmp;
+  SubprocessRunner runner(script(tmp.path(), "ulimit -v > \"$3/ulimit.txt\""), 300ull << 20);
+  std::atomic<bool> cancel{false};
+  auto out = runner.run(task(tmp.path()), nullptr, cancel);
+  ASSERT_EQ(out.status, ConversionOutcome::Status::ok) << out.message;
+  std::ifstream in(tmp.path() / "ulimit.txt");
+  std::string kib;
+  in >> kib;
+  EXPECT_EQ(kib, std::to_string(300 * 1024));
 }
 
 TEST(ConversionRunner, AFailureCarriesTheConvertersMessageWithoutTheWorkPath) {

@@ -1,10 +1,12 @@
 // The knitting-machine device with lace jobs: a lace job's passes reach the firmware model (a
 // simulated knitter, in simulated time) as planned, and a chart the carriage cannot do fails
-// before the port is opened.
+// before the port is opened. And a board a crashed daemon left knitting: reset through DTR and
+// knitted on, or, when it cannot be reset, a job that fails within seconds saying what to do.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <functional>
 #include <string>
 #include <vector>
@@ -14,6 +16,7 @@
 #include "convert/lace/lace_chart_json.h"
 #include "daemon/job_service.h"
 #include "daemon/knit_device.h"
+#include "drivers/ayab/knit_plan.h"
 #include "drivers/ayab/lace_plan.h"
 #include "tests/e2e/daemon_harness.h"
 #include "tests/support/job_watch.h"
@@ -28,10 +31,9 @@ using lace::Chart;
 using lace::Row;
 using lace::Symbol;
 using namespace lace::test;  // row(), knit(), expected_fabric() of lace_test_charts.h
-// A ready lace job (chart.json in its output folder) and a knitting-machine device taking
-// knit and lace jobs, all on one FakeClock: the device's sessions knit against a simulated
-// knitter in simulated time.
-struct LaceJobOnDevice {
+// A ready job and a knitting-machine device taking knit and lace jobs, all on one FakeClock:
+// the device's sessions knit against a simulated knitter in simulated time.
+struct JobOnDevice {
   test::TempDir tmp;
   SpoolLayout layout{tmp.path() / "spool"};
   Store store{tmp.path() / "jobs.sqlite"};
@@ -40,16 +42,18 @@ struct LaceJobOnDevice {
   JobService jobs{store, layout, watch.listener()};
   int64_t id = 0;
 
-  LaceJobOnDevice(const Chart& chart, int cast_on, int wide, int high, JobState state = JobState::ready) {
+  // A job of `kind` in `state` whose output folder `write_outputs` fills.
+  JobOnDevice(const std::string& kind, const std::string& name, JobState state,
+              const std::function<void(const std::string& dir)>& write_outputs) {
     jobs.ensure_layout();
     Job job;
     job.id = store.reserve_id();
-    job.kind = "lace";
-    job.name = "lace.toml";
+    job.kind = kind;
+    job.name = name;
     job.state = state;
     job.output_dir = (tmp.path() / "done" / std::to_string(job.id)).string();
     std::filesystem::create_directories(job.output_dir);
-    std::ofstream(job.output_dir + "/chart.json") << lace_chart_to_json({chart, cast_on, wide, high}).dump();
+    write_outputs(job.output_dir);
     store.insert_job(job);
     id = job.id;
   }
@@ -79,6 +83,28 @@ struct LaceJobOnDevice {
     machine.on_row = nullptr;
     return *store.get(id);
   }
+};
+
+// A ready lace job (chart.json in its output folder) on the device.
+struct LaceJobOnDevice : JobOnDevice {
+  LaceJobOnDevice(const Chart& chart, int cast_on, int wide, int high, JobState state = JobState::ready)
+      : JobOnDevice("lace", "lace.toml", state, [&](const std::string& dir) {
+          std::ofstream(dir + "/chart.json") << lace_chart_to_json({chart, cast_on, wide, high}).dump();
+        }) {}
+};
+
+// A ready knit job on the device: pattern.png, `rows` rows of 20 stitches with one contrast
+// stitch each.
+cv::Mat knit_pattern(int rows) {
+  cv::Mat pattern(rows, 20, CV_8UC1, cv::Scalar(255));
+  for (int r = 0; r < rows; ++r) pattern.at<uint8_t>(r, (r * 3) % 20) = 0;
+  return pattern;
+}
+struct KnitJobOnDevice : JobOnDevice {
+  explicit KnitJobOnDevice(int rows)
+      : JobOnDevice("knit", "pattern.png", JobState::ready, [rows](const std::string& dir) {
+          cv::imwrite(dir + "/pattern.png", knit_pattern(rows));
+        }) {}
 };
 
 // Needle strings (working range, leftmost first) of the plan's passes from `from_pass` on: what
@@ -172,6 +198,50 @@ TEST(AyabLacePlanOnTheMachine, ALinkLostInTheMiddleOfAChartRowSaysSoWithTheResum
   EXPECT_THAT(job.reason, ::testing::HasSubstr("of its 8 passes: its stitches may be moved but not knitted; put "
                                                "them back as the cast-on left them"));
   EXPECT_THAT(job.reason, ::testing::HasSubstr("--from-row 1"));
+}
+
+// A daemon killed in the middle of a job leaves the firmware knitting: here it got as far as the
+// start, and the board was not reset when the port closed (or opened).
+void leave_knitting(test::SimulatedKnitter& machine, FakeClock& clock) {
+  auto link = machine.open();
+  HostSession crashed(*link, {}, clock);
+  crashed.connect();
+  crashed.init(MachineType::kh930);
+  cv::Mat stitches = knit_pattern(3) < 128;  // 1 = contrast, as the device plans it
+  stitches /= 255;
+  crashed.start(plan_knitting(stitches, PlanParams{}));
+  ASSERT_EQ(machine.firmware().state(), FsmState::knit);
+}  // the link goes without a word: no last line
+
+TEST(AyabResetOnTheMachine, ABoardLeftKnittingByACrashedDaemonIsResetThroughDtrAndTheNextJobKnits) {
+  KnitJobOnDevice rig(4);
+  // The board resets on a DTR pulse, but the port was closed without dropping DTR (no HUPCL),
+  // so opening it did not reset it.
+  test::SimulatedKnitter machine(rig.clock, 2, {}, 50, test::SimulatedKnitter::Wiring::on_pulse_only);
+  leave_knitting(machine, rig.clock);
+  const Job job = rig.run(machine);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  EXPECT_EQ(machine.dtr_pulses(), 1);
+  EXPECT_EQ(machine.recorded().size(), 4u) << "every row of the new job, nothing of the old one";
+}
+
+TEST(AyabResetOnTheMachine, ABoardThatCannotBeResetFailsTheJobWithinSecondsSayingWhatToDo) {
+  KnitJobOnDevice rig(4);
+  knit_emu::Faults faults;
+  ASSERT_EQ(knit_emu::apply_fault("no-dtr-reset", faults), "");
+  test::SimulatedKnitter machine(rig.clock, 2, faults);
+  leave_knitting(machine, rig.clock);
+  const auto t0 = rig.clock.now();
+  const Job job = rig.run(machine);
+  const auto took = rig.clock.now() - t0;
+  ASSERT_EQ(job.state, JobState::failed) << job.reason;
+  EXPECT_THAT(job.reason, ::testing::StartsWith("knitter: the knitting machine refused to start: wrong machine state "
+                                                "(0xef)"));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("not reset"));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("reset it (the reset button on its Arduino"));
+  EXPECT_EQ(machine.dtr_pulses(), 1) << "one reset tried before giving up";
+  EXPECT_LT(took, std::chrono::seconds(5)) << "the job hung instead of failing";
+  EXPECT_TRUE(machine.recorded().empty());
 }
 
 }  // namespace

@@ -59,6 +59,17 @@ TEST(TransportMemory, FlushInputDiscardsUnreadBytes) {
   EXPECT_EQ(read_all(*b, 2), "ok");
 }
 
+TEST(TransportMemory, ADtrPulseIsCountedAndDiscardsUnreadInput) {
+  FakeClock clock;
+  auto [a, b] = make_memory_pair(clock);
+  write_str(*a, "noise");
+  b->pulse_dtr(100ms);
+  EXPECT_EQ(b->dtr_pulses(), 1);
+  EXPECT_EQ(a->dtr_pulses(), 0);
+  write_str(*a, "ok");
+  EXPECT_EQ(read_all(*b, 2), "ok");
+}
+
 TEST(TransportMemory, DisconnectMakesBothEndsThrowLinkLost) {
   FakeClock clock;
   clock.set_auto_advance(true);

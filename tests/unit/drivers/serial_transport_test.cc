@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <pty.h>
+#include <termios.h>
 #include <sys/ioctl.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <future>
 #include <string>
+#include <thread>
 
 #include "drivers/serial_transport.h"
 #include "tests/support/thread_state.h"
@@ -148,6 +150,58 @@ TEST(TransportSerial, CloseWakesABlockedRead) {
   // The pty transport's own wait is real time: a close that did not wake it is found here.
   ASSERT_EQ(reader.wait_for(10s), std::future_status::ready) << "reader still blocked";
   EXPECT_TRUE(reader.get());
+}
+
+TEST(TransportSerial, OpensWithHupclSoItsCloseDropsDtr) {
+  // A port left without HUPCL (`stty -hupcl`, or a program that cleared it) would keep DTR up
+  // after our close - or after the kernel's, when the daemon is killed - and the board running.
+  Pty pty;
+  {
+    const int fd = ::open(pty.slave.c_str(), O_RDWR | O_NOCTTY);
+    ASSERT_GE(fd, 0);
+    termios t{};
+    ASSERT_EQ(::tcgetattr(fd, &t), 0);
+    t.c_cflag &= ~static_cast<tcflag_t>(HUPCL);
+    ASSERT_EQ(::tcsetattr(fd, TCSANOW, &t), 0);
+    ::close(fd);
+  }
+  auto port = SerialTransport::open(pty.slave);
+  termios t{};
+  ASSERT_EQ(::tcgetattr(port->fd(), &t), 0);
+  EXPECT_TRUE(t.c_cflag & HUPCL) << "HUPCL not set: closing the port would not drop DTR";
+}
+
+// Whether the pty's master sees its slave hung up (no descriptor on it open) now.
+bool hung_up(int master) {
+  pollfd p{master, 0, 0};
+  return ::poll(&p, 1, 0) == 1 && (p.revents & POLLHUP);
+}
+
+TEST(TransportSerial, PulseDtrOnAPtyHangsUpForTheWholePulseAndComesBack) {
+  Pty pty;
+  auto port = SerialTransport::open(pty.slave);
+  ASSERT_FALSE(hung_up(pty.master));
+  // The pulse blocks this thread for its length; the device watches the line meanwhile.
+  auto pulse = std::async(std::launch::async, [&] { port->pulse_dtr(300ms); });
+  bool saw_hangup = false;
+  for (int i = 0; i < 200 && !saw_hangup; ++i) {  // up to 2 s of 10 ms looks
+    saw_hangup = hung_up(pty.master);
+    if (!saw_hangup) std::this_thread::sleep_for(10ms);
+  }
+  pulse.get();
+  EXPECT_TRUE(saw_hangup) << "the device never saw DTR drop";
+  EXPECT_FALSE(hung_up(pty.master)) << "the port did not come back after the pulse";
+  // The same transport works on: both ways.
+  ASSERT_EQ(::write(pty.master, "hello", 5), 5);
+  EXPECT_EQ(read_all(*port, 5), "hello");
+  write_str(*port, "ok");
+  EXPECT_EQ(read_master(pty.master, 2), "ok");
+  int held = 0;
+  termios t{};
+  ASSERT_EQ(::tcgetattr(port->fd(), &t), 0);
+  EXPECT_TRUE(t.c_cflag & HUPCL);
+  EXPECT_EQ(::ioctl(port->fd(), TIOCGEXCL, &held), 0);
+  EXPECT_EQ(held, 1) << "the reopened port is not held exclusively";
 }
 
 }  // namespace

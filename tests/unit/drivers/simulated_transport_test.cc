@@ -40,6 +40,11 @@ class DelayedEcho : public SimulatedPeer {
   }
   std::optional<Clock::time_point> next_event() const override { return due_; }
   bool unplugged() const override { return unplugged_; }
+  void dtr_pulse(Clock::time_point now, std::chrono::milliseconds low) override {
+    pulses.emplace_back(now, low);
+  }
+
+  std::vector<std::pair<Clock::time_point, std::chrono::milliseconds>> pulses;  // dtr_pulse() calls
 
  private:
   Clock::duration delay_;
@@ -98,6 +103,22 @@ TEST(SimulatedTransport, CloseLosesTheLinkAndWhatWasInFlight) {
   link.close();
   EXPECT_THROW(read_str(link, 100ms), LinkLost);
   EXPECT_THROW(write_str(link, "x"), LinkLost);
+}
+
+TEST(SimulatedTransport, ADtrPulseReachesThePeerTakesItsTimeAndDropsWhatWasInFlight) {
+  FakeClock clock;
+  auto echo = std::make_shared<DelayedEcho>(1ms);
+  SimulatedTransport link(echo, clock);
+  write_str(link, "boot noise");
+  const auto t0 = clock.now();
+  link.pulse_dtr(100ms);
+  ASSERT_EQ(echo->pulses.size(), 1u);
+  EXPECT_EQ(echo->pulses[0].first, t0);
+  EXPECT_EQ(echo->pulses[0].second, 100ms);
+  EXPECT_EQ(clock.now(), t0 + 100ms);
+  EXPECT_EQ(read_str(link, 50ms), "") << "sent before the reset, read after it";
+  write_str(link, "hi");
+  EXPECT_EQ(read_str(link, 50ms), "HI");
 }
 
 }  // namespace

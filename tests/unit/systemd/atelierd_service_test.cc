@@ -168,6 +168,8 @@ TEST_F(SystemdUnitTest, UnitRunsSandboxedButKeepsSerialPorts) {
   // The spool, and where file-drop devices' sticks and shares are mounted.
   EXPECT_EQ(s["ReadWritePaths"], "/var/spool/atelier -/media -/mnt -/run/media");
   EXPECT_EQ(s["NoNewPrivileges"], "yes");
+  // Outputs and the store group-readable only, as atelierd's own umask.
+  EXPECT_EQ(s["UMask"], "0027");
   EXPECT_EQ(s["RestrictAddressFamilies"], "AF_UNIX AF_NETLINK");
   // PrivateDevices= would hide /dev/ttyACM* and /dev/ttyUSB*: the machines.
   EXPECT_EQ(s.count("PrivateDevices"), 0u);

@@ -142,4 +142,13 @@ TEST_F(ConvertToolTest, UsageErrorsExitTwo) {
   EXPECT_EQ(tool("--help"), 0);
 }
 
+TEST_F(ConvertToolTest, RunningOutOfTheMemoryBudgetNamesTheInputAndTheLimit) {
+  // 36 Mpx decode to 108 MB, with more for the stitch grid: more than a 256 MB budget holds
+  // (it converts with 600). The reason names the file and the budget, not std::bad_alloc.
+  const fs::path big = dir_ / "big.png";
+  ASSERT_TRUE(cv::imwrite(big.string(), cv::Mat(6000, 6000, CV_8UC3, cv::Scalar(128, 128, 128))));
+  EXPECT_EQ(tool("knit " + q(big) + " " + q(dir_ / "out") + " --set width=100 --memory-mb 256"), 1);
+  EXPECT_EQ(err(), "error: big.png: needs more than 256 MB (limits.job_memory_mb)\n");
+}
+
 }  // namespace

@@ -56,7 +56,9 @@ class Emulator {
     if (stdout_ >= 0) ::close(stdout_);
   }
   // The first stdout line ("atelier-knit-emu: kh930 on /dev/pts/N linked at PATH").
-  std::string ready_line() {
+  std::string ready_line() { return next_line(); }
+  // The next stdout line (e.g. "atelier-knit-emu: DTR dropped ..." when a host went away).
+  std::string next_line() {
     std::string line;
     char c;
     pollfd p{stdout_, POLLIN, 0};
@@ -256,6 +258,53 @@ TEST(KnitEmuProgram, DropAfterRowRemovesTheLinkAndReplugsAFreshFirmware) {
     knit(port, {"00001111"}, 0);
   }
   EXPECT_EQ(read_lines(record), (std::vector<std::string>{"11000000", "00110000", "00001111"}));
+  EXPECT_EQ(emu.stop(), 0);
+  fs::remove_all(dir);
+}
+
+// Opens the link and gets as far as knitting (reqStart answered, line 0 asked for), then closes
+// the port with no last line, as a host killed mid-job does.
+void leave_knitting(const std::string& link) {
+  Port port(link);
+  ASSERT_TRUE(port.ok());
+  init_and_start(port);
+}
+
+TEST(KnitEmuProgram, ClosingThePortDropsDtrAndRestartsTheFirmware) {
+  const fs::path dir = temp_dir("dtr");
+  const std::string link = (dir / "ttyKNIT").string();
+  Emulator emu({"--machine", "kh930", "--link", link, "--row-ms", "5", "--boot-ms", "0"});
+  emu.ready_line();
+  leave_knitting(link);
+  EXPECT_NE(emu.next_line().find("DTR dropped"), std::string::npos);
+  // The next host finds a freshly booted firmware: reqInit is accepted again.
+  Port port(link);
+  ASSERT_TRUE(port.ok());
+  port.send(ab::ReqInit{ab::MachineType::kh930});
+  auto init = port.wait_for<ab::CnfInit>();
+  ASSERT_TRUE(init);
+  EXPECT_EQ(init->error, ab::err::success) << "the firmware was not restarted when the host went away";
+  EXPECT_EQ(emu.stop(), 0);
+  fs::remove_all(dir);
+}
+
+TEST(KnitEmuProgram, WithNoDtrResetTheFirmwareStaysKnittingAndRefusesToStartAsFirmware1Does) {
+  const fs::path dir = temp_dir("nodtr");
+  const std::string link = (dir / "ttyKNIT").string();
+  Emulator emu({"--machine", "kh930", "--link", link, "--row-ms", "5", "--boot-ms", "0", "--fault", "no-dtr-reset"});
+  ASSERT_NE(emu.ready_line().find("linked at"), std::string::npos);
+  leave_knitting(link);
+  EXPECT_NE(emu.next_line().find("DTR dropped"), std::string::npos);
+  Port port(link);
+  ASSERT_TRUE(port.ok());
+  port.send(ab::ReqInit{ab::MachineType::kh930});
+  auto init = port.wait_for<ab::CnfInit>();
+  ASSERT_TRUE(init);
+  EXPECT_EQ(init->error, ab::err::wrong_machine_state);
+  port.send(ab::ReqStart{0, 7, false, false});
+  auto start = port.wait_for<ab::CnfStart>();
+  ASSERT_TRUE(start);
+  EXPECT_EQ(start->error, 0xEF) << "firmware 1.0 answers reqStart outside ready with wrong_machine_state";
   EXPECT_EQ(emu.stop(), 0);
   fs::remove_all(dir);
 }

@@ -2,6 +2,7 @@
 // thread in this test that records each request and answers canned JSON lines).
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -263,6 +264,15 @@ TEST_F(AtelierctlTest, SubmitSendsAbsolutePathKindAndSets) {
   EXPECT_EQ(req["args"]["path"].get<std::string>().front(), '/');
   EXPECT_EQ(req["args"]["kind"], "knit");
   EXPECT_EQ(req["args"]["set"], json::array({"max_float=5", "width=80"}));
+}
+
+TEST_F(AtelierctlTest, SubmitOfSomethingNotARegularFileFailsAndSendsNothing) {
+  const fs::path fifo = dir_ / "pipe.png";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  CtlRun r = ctl(sock() + "submit '" + fifo.string() + "' --kind knit");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("pipe.png: not a regular file"), std::string::npos) << r.err;
+  EXPECT_TRUE(daemon().requests().empty());
 }
 
 TEST_F(AtelierctlTest, IdVerbsSendIntegerIds) {

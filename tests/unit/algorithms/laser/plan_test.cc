@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "algorithms/laser/plan.h"
 #include "tests/support/laser_test_shapes.h"
@@ -294,6 +296,37 @@ TEST(LaserGcode, LongLayerNamesKeepLinesShort) {
   Layer l = layer(std::string(200, 'n') + "\n", Mode::cut, {square(10, 10, 3)});
   for (const auto& line : lines_of(plan_job({l}, Machine{}).gcode)) EXPECT_LE(line.size(), 70u);
   EXPECT_THAT(plan_job({l}, Machine{}).gcode, HasSubstr("nnn cut 600mm/min 80% x1\n"));
+}
+
+// The program never holds a number GRBL could not read exactly or would cast out of range:
+// at the largest settings the parameters allow (5000 mm bed, s_max and feeds of 100000,
+// 50 passes), every word has at most 8 significant digits (GRBL's read_float keeps 8) and
+// every G/M number is one of the few it writes (G0 G1 G21 G90, M0 M4 M5).
+TEST(LaserGcode, EveryNumberFitsGrblsReader) {
+  Machine m;
+  m.width_mm = m.height_mm = 5000;
+  m.s_max = 100000;
+  m.origin = Origin::rear_right;  // negative coordinates
+  Layer l = layer("cut", Mode::cut, {square(0.0004, 0.0004, 4999.999), Path{{{1234.5678, 4321.8765}, {2.5, 4999.9999}}, false}});
+  l.settings.speed_mm_min = 100000;
+  l.settings.power_pct = 100;
+  l.settings.passes = 50;
+  const Job job = plan_job({l}, m);
+  for (const std::string& line : lines_of(job.gcode)) {
+    if (line.empty() || line[0] == ';') continue;
+    for (size_t i = 0; i < line.size();) {
+      if (line[i] == ' ') { ++i; continue; }
+      const char letter = line[i++];
+      size_t end = i;
+      int digits = 0;
+      while (end < line.size() && line[end] != ' ') digits += std::isdigit(static_cast<unsigned char>(line[end++])) != 0;
+      const double value = std::stod(line.substr(i, end - i));
+      EXPECT_LE(digits, 8) << line;
+      if (letter == 'G') EXPECT_TRUE(value == 0 || value == 1 || value == 21 || value == 90) << line;
+      if (letter == 'M') EXPECT_TRUE(value == 0 || value == 4 || value == 5) << line;
+      i = end;
+    }
+  }
 }
 
 }  // namespace

@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 #include "convert/convert.h"
 #include "convert/common/svg_paths.h"
+#include "tests/support/hostile_svg.h"
 
 namespace atelier {
 namespace {
@@ -217,6 +219,81 @@ TEST_F(SvgPathsTest, ToleranceControlsCurveDetail) {
   SvgDrawing fine_drawing = read(svg, 0.01);
   for (auto p : fine_drawing.shapes[0].paths[0].points)
     EXPECT_NEAR(std::hypot(p.x - 50, p.y - 50), 40, 0.011);
+}
+
+// Hostile drawings: each is refused with the file's name and the limit, in bounded time and
+// memory (the converter's budget would otherwise end it with std::bad_alloc or a crash).
+std::string refusal(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConvertError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST_F(SvgPathsTest, AMillionNestedGroupsAreRefusedNotAStackOverflow) {
+  const std::string why = refusal([&] { read(testing::nested_groups(1000000)); });
+  EXPECT_THAT(why, HasSubstr("drawing.svg: elements nested more than 256 deep (limit 256 levels)"));
+  // Within the limit, nesting still works.
+  EXPECT_EQ(read(testing::nested_groups(200)).shapes.size(), 1u);
+}
+
+TEST_F(SvgPathsTest, MoreElementsThanTheLimitAreRefused) {
+  const std::string why = refusal([&] { read(testing::many_paths(100001)); });
+  EXPECT_THAT(why, HasSubstr("drawing.svg: more than 100000 elements (limit 100000 per drawing)"));
+}
+
+TEST_F(SvgPathsTest, CurvesThatFlattenToMillionsOfPointsAreRefused) {
+  // Eight circles of 400 km at 0.1 um: about 2 million points, over the limit of a million.
+  const std::string why = refusal([&] { read(testing::point_bomb(8), 0.0001); });
+  EXPECT_THAT(why, HasSubstr("drawing.svg: more than 1000000 points after flattening the curves"));
+  EXPECT_THAT(why, HasSubstr("limit 1000000 points per drawing"));
+}
+
+TEST_F(SvgPathsTest, ScaleBombsAreRefusedBeforeFlattening) {
+  // A 446-byte drawing whose transforms overflow to infinity: every tolerance test fails on
+  // NaN, so each curve used to flatten to 2^24 points (3.7 GB for a handful of curves).
+  const std::string inf = refusal([&] {
+    read(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <g transform="scale(1e200)"><g transform="scale(1e200)">
+      <path d="M0 0 C 10 10 20 -10 30 0 C 40 10 50 -10 60 0" stroke="black"/></g></g></svg>)svg");
+  });
+  EXPECT_THAT(inf, HasSubstr("drawing.svg: a shape's coordinates are not finite numbers"));
+  // Huge but finite: refused by the coordinate limit.
+  const std::string far = refusal([&] {
+    read(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <circle transform="scale(1e9)" cx="50" cy="50" r="40" stroke="black"/></svg>)svg");
+  });
+  EXPECT_THAT(far, HasSubstr("drawing.svg: a shape reaches "));
+  EXPECT_THAT(far, HasSubstr("(limit 1e+06 mm)"));
+}
+
+TEST_F(SvgPathsTest, ArcsWithNonFiniteOrDegenerateNumbersNeverReachTheArcCode) {
+  // An infinite radius (1e999 parses as inf) is refused with the arc's numbers.
+  const std::string why = refusal([&] {
+    read(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <path d="M 10 10 A 1e999 5 0 0 1 50 50" stroke="black"/></svg>)svg");
+  });
+  EXPECT_THAT(why, HasSubstr("drawing.svg: "));
+  EXPECT_THAT(why, ::testing::AnyOf(HasSubstr("not finite"), HasSubstr("\"d\"")));
+  // Radii too small or too large for the centre to be computed are the chord, as SVG says
+  // of a zero radius; the drawing still reads and ends on the arc's end point.
+  SvgDrawing d = read(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <path d="M 10 10 A 1e-300 1e-300 0 0 1 50 50 A 0 5 0 0 1 60 50 A 1e300 1e300 0 0 1 70 60" stroke="black"/></svg>)svg");
+  ASSERT_EQ(d.shapes.size(), 1u);
+  const auto& pts = d.shapes[0].paths.at(0).points;
+  for (const auto& p : pts) {
+    EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y));
+  }
+  EXPECT_NEAR(pts.back().x, 70, 1e-6);
+  EXPECT_NEAR(pts.back().y, 60, 1e-6);
+  // An ordinary arc is unchanged: a half circle of radius 20 from (10,50) to (50,50).
+  SvgDrawing half = read(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <path d="M 10 50 A 20 20 0 0 1 50 50" stroke="black"/></svg>)svg", 0.01);
+  for (const auto& p : half.shapes.at(0).paths.at(0).points)
+    EXPECT_NEAR(std::hypot(p.x - 30, p.y - 50), 20, 0.02);
+  EXPECT_NEAR(bounds_of(half.shapes[0].paths[0]).min_y, 30, 0.02);  // sweep 1: over the top
 }
 
 }  // namespace

@@ -239,5 +239,33 @@ TEST_F(ConvertKnitTest, BadInputIsAConvertErrorNamingTheFile) {
   EXPECT_THROW(run(kData / "pic3.png", {"relax_mask=\"missing.png\""}), ConvertError);
 }
 
+TEST_F(ConvertKnitTest, APatternTallerThanTheRowLimitIsRefusedFromTheHeader) {
+  // 200 stitches wide and as tall as the pixel limit lets a picture be: ~128000 rows, which
+  // ran for minutes. Refused before decoding, naming the file, the rows and the limit.
+  fs::create_directories(out_);
+  const fs::path tall = out_ / "tall.png";
+  ASSERT_TRUE(cv::imwrite(tall.string(), cv::Mat(100000, 200, CV_8UC1, cv::Scalar(255))));
+  try {
+    run(tall, {"width=200"});
+    FAIL() << "no error";
+  } catch (const ConvertError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("tall.png: the pattern would have 128571 rows of 200 stitches, "
+                                    "more than the limit of 10000 rows (27.8 m of fabric at 36 rows per 10 cm)"));
+  }
+}
+
+TEST_F(ConvertKnitTest, ALongPatternsPreviewStaysWithinItsPixelLimit) {
+  fs::create_directories(out_);
+  const fs::path input = out_ / "long.png";
+  cv::Mat img(1500, 200, CV_8UC1);
+  cv::randu(img, 0, 256);
+  ASSERT_TRUE(cv::imwrite(input.string(), img));
+  run(input, {"width=200"});
+  cv::Mat preview = cv::imread((out_ / "preview.png").string());
+  ASSERT_FALSE(preview.empty());
+  EXPECT_LE(static_cast<double>(preview.total()), 40e6);
+  EXPECT_GE(preview.cols, 200 * 4);  // still several pixels per stitch
+}
+
 }  // namespace
 }  // namespace atelier

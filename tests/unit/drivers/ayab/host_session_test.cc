@@ -28,6 +28,8 @@ struct PeerScript {
   int silent_after = -1;         // stop answering after receiving this line
   int pause_after = -1;          // the knitter stops after this line (reqInfo still answered)
   std::chrono::milliseconds pause{0};
+  std::chrono::milliseconds ready_after{0};  // the carriage crosses the turn mark this long after init
+  bool silent_after_init = false;            // the firmware dies right after cnfInit
 };
 
 // Plays an AYAB v6 firmware as the far end of a SimulatedTransport, recording what the host
@@ -61,7 +63,10 @@ class ScriptedFirmware : public SimulatedPeer {
     resume_if_due(now);
     return std::exchange(out_, {});
   }
-  std::optional<Clock::time_point> next_event() const override { return paused_until_; }
+  std::optional<Clock::time_point> next_event() const override {
+    if (ready_at_ && (!paused_until_ || *ready_at_ < *paused_until_)) return ready_at_;
+    return paused_until_;
+  }
   bool unplugged() const override { return unplugged_; }
 
  private:
@@ -69,8 +74,17 @@ class ScriptedFirmware : public SimulatedPeer {
     const Bytes f = slip_encode(encode(m));
     out_.insert(out_.end(), f.begin(), f.end());
   }
+  static IndState ready_state() {
+    IndState s;
+    s.state = FsmState::ready;
+    return s;
+  }
   // The knitter starts moving again: the request held back during the pause goes out.
   void resume_if_due(Clock::time_point now) {
+    if (ready_at_ && now >= *ready_at_) {
+      ready_at_.reset();
+      if (!silent_) send(ready_state());
+    }
     if (paused_until_ && now >= *paused_until_) {
       paused_until_.reset();
       send(ReqLine{paused_request_, 0});
@@ -83,9 +97,13 @@ class ScriptedFirmware : public SimulatedPeer {
     } else if (std::holds_alternative<ReqInit>(m)) {
       send(CnfInit{0});
       send(Debug{"init"});  // noise the host must skip
-      IndState s;
-      s.state = FsmState::ready;
-      send(s);
+      if (script_.silent_after_init) {
+        silent_ = true;
+      } else if (script_.ready_after.count() > 0) {
+        ready_at_ = now + script_.ready_after;
+      } else {
+        send(ready_state());
+      }
     } else if (std::holds_alternative<ReqStart>(m)) {
       send(CnfStart{script_.start_error});
       if (script_.start_error == 0) send(ReqLine{0, 0});
@@ -137,6 +155,7 @@ class ScriptedFirmware : public SimulatedPeer {
   bool silent_ = false, unplugged_ = false;
   std::optional<Clock::time_point> paused_until_;
   uint8_t paused_request_ = 0;
+  std::optional<Clock::time_point> ready_at_;  // the ready indState is due
   std::vector<CnfLine> lines_;
   std::vector<Message> received_;
 };
@@ -429,6 +448,67 @@ TEST(AyabHostSession, SilentMachineFailsNamingTheRow) {
   } catch (const AyabError& e) {
     EXPECT_STREQ(e.what(), "the knitting machine went silent after row 3");
   }
+}
+
+TEST(AyabHostSession, AStartRefusedInTheWrongStateFailsAtOnceSayingToResetTheBoard) {
+  // Firmware 1.0 answers reqStart outside its ready state with 0xEF, e.g. when it still knits
+  // for a host that died. Nothing will make it ready by itself: no waiting for an indState.
+  PeerScript script;
+  script.start_error = err::wrong_machine_state;
+  Rig rig(script);
+  HostSession& s = rig.s;
+  s.connect();
+  s.init(MachineType::kh930);
+  const auto t0 = rig.clock.now();
+  KnitRun run;
+  try {
+    s.knit(plan_of(3), 0, run.callback(), run.cancel);
+    FAIL() << "expected StartRefused";
+  } catch (const StartRefused& e) {
+    EXPECT_TRUE(e.wrong_state());
+    EXPECT_EQ(std::string(e.what()).rfind("the knitting machine refused to start: wrong machine state (0xef)", 0), 0u)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("reset it"), std::string::npos) << e.what();
+  }
+  EXPECT_LE(rig.clock.now() - t0, fast().reply);
+  EXPECT_TRUE(rig.peer->lines().empty());
+}
+
+TEST(AyabHostSession, WaitingForTheCarriageEndsWhenTheMachineStopsAnswering) {
+  // The wait for the turn mark has no limit of its own (ready = 0: a person moves the
+  // carriage), but a machine that no longer answers ends it.
+  PeerScript script;
+  script.silent_after_init = true;
+  SessionTimeouts t = fast();
+  t.ready = 0ms;
+  t.silent = 400ms;
+  Rig rig(script, t);
+  HostSession& s = rig.s;
+  s.connect();
+  const auto t0 = rig.clock.now();
+  try {
+    s.init(MachineType::kh930);
+    FAIL() << "expected AyabError";
+  } catch (const AyabError& e) {
+    EXPECT_NE(std::string(e.what()).find("stopped answering while waiting for the carriage"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LE(rig.clock.now() - t0, t.silent + t.reply + 100ms);
+}
+
+TEST(AyabHostSession, AKnitterMayTakeLongerThanTheSilenceLimitToReachTheTurnMark) {
+  PeerScript script;
+  script.ready_after = 2000ms;  // five times `silent`; reqInfo is answered meanwhile
+  SessionTimeouts t = fast();
+  t.ready = 0ms;
+  t.silent = 400ms;
+  Rig rig(script, t);
+  HostSession& s = rig.s;
+  s.connect();
+  s.init(MachineType::kh930);
+  EXPECT_TRUE(s.was_reset());
+  KnitRun run;
+  EXPECT_EQ(s.knit(plan_of(2), 0, run.callback(), run.cancel), 2);
 }
 
 }  // namespace

@@ -131,5 +131,12 @@ TEST(AyabMessages, NeedleBitsAreLsbFirst) {
   EXPECT_FALSE(needle_selected(d, 8));
 }
 
+TEST(AyabMessages, FirmwareOnesErrorCodesAndStateNamesReadAsTheUserNeedsThem) {
+  EXPECT_EQ(error_text(err::wrong_machine_state), "wrong machine state (0xef)");
+  EXPECT_EQ(error_text(err::bad_crc), "bad checksum (0x04)");
+  EXPECT_EQ(state_name(FsmState::knit), "knitting");
+  EXPECT_EQ(state_name(FsmState::wait_for_machine), "wait-for-machine");
+}
+
 }  // namespace
 }  // namespace atelier::ayab

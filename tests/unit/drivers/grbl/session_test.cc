@@ -666,6 +666,18 @@ class EmulatedLaser : public SimulatedPeer {
     std::lock_guard lock(mu_);
     return ctl_.state_name();
   }
+  double laser_s() const {
+    std::lock_guard lock(mu_);
+    return ctl_.laser_s();
+  }
+  // Bytes an earlier host wrote at `now`, whose answers went with it (taken and dropped), and
+  // the machine run on until `until`.
+  void earlier_host_wrote(const std::string& bytes, Clock::time_point now, Clock::time_point until) {
+    std::lock_guard lock(mu_);
+    ctl_.host_write(bytes, us(now));
+    ctl_.advance_to(us(until));
+    ctl_.take_output();
+  }
   double x() const {
     std::lock_guard lock(mu_);
     return ctl_.position()[0];
@@ -830,6 +842,29 @@ TEST(GrblProgramPause, AnOperatorHoldIsStillResumedAsBefore) {
   streamer.thread.join();
   if (streamer.failure) std::rethrow_exception(streamer.failure);
   EXPECT_NEAR(laser->x(), 100.0, 1e-6);
+}
+
+// ---- A controller that was not reset ----
+
+TEST(GrblReconnect, AControllerStillRunningAnEarlierJobIsSoftResetAndReportedLocked) {
+  // A board whose auto-reset did not fire (the earlier host died; no DTR edge): it printed its
+  // banner long ago and still burns the earlier job's queue. connect() must not wait for a
+  // banner that never comes: no banner within `banner`, a soft reset stops it (beam off) and
+  // its banner follows.
+  FakeClock clock;
+  auto laser = std::make_shared<EmulatedLaser>(clock.now());
+  clock.advance(10ms);
+  laser->earlier_host_wrote("G21 G90\nM3 S800\nG1 X100 F60\nG1 X0\nG1 X100\n", clock.now(), clock.now() + 1s);
+  clock.advance(1s);
+  ASSERT_EQ(laser->state(), "Run");
+  ASSERT_GT(laser->laser_s(), 0);
+  SimulatedTransport link(laser, clock);
+  Session s(link, Timeouts{}, clock);
+  const auto t0 = clock.now();
+  const MachineInfo info = s.connect();
+  EXPECT_EQ(laser->laser_s(), 0) << "the earlier job still burns";
+  EXPECT_TRUE(info.alarm_locked) << "reset in motion: ALARM:3, the position may be lost";
+  EXPECT_LE(clock.now() - t0, Timeouts{}.banner + Timeouts{}.stop + Timeouts{}.reply);
 }
 
 }  // namespace

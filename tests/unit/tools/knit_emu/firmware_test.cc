@@ -75,7 +75,7 @@ TEST(KnitEmuFirmware, FullSessionRecordsTheLinesSent) {
   rig.advance(100);
   EXPECT_EQ(only<ab::IndState>(rig.take()).state, ab::FsmState::ready);
   rig.send(ab::ReqInit{ab::MachineType::kh930});
-  EXPECT_EQ(only<ab::CnfInit>(rig.take()).error, ab::err::wrong_state);
+  EXPECT_EQ(only<ab::CnfInit>(rig.take()).error, ab::err::wrong_machine_state);
   rig.send(ab::ReqStart{0, 199, false, false});
   msgs = rig.take();
   ASSERT_EQ(msgs.size(), 2u);
@@ -185,16 +185,16 @@ TEST(KnitEmuFirmware, WrongLineNumberMakesTheFirmwareAskAgain) {
 TEST(KnitEmuFirmware, ReqStartChecksStateAndRange) {
   Rig rig(opts());
   rig.send(ab::ReqStart{0, 10, false, false});
-  EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::wrong_state) << "before init";
+  EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::wrong_machine_state) << "before init";
   rig.send(ab::ReqInit{ab::MachineType::kh930});
   rig.take();
   rig.send(ab::ReqStart{0, 10, false, false});
-  EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::wrong_state) << "init, not ready yet";
+  EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::wrong_machine_state) << "init, not ready yet";
   rig.advance(100);
   rig.take();
   for (auto [a, b] : {std::pair{50, 50}, {60, 10}, {0, 200}, {199, 255}}) {
     rig.send(ab::ReqStart{static_cast<uint8_t>(a), static_cast<uint8_t>(b), false, false});
-    EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::bad_argument) << a << ".." << b;
+    EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::bad_needles) << a << ".." << b;
   }
   ab::Bytes bad = ab::encode(ab::ReqStart{0, 10, false, false});
   bad.back() ^= 1;
@@ -217,7 +217,7 @@ TEST(KnitEmuFirmware, ReqInitOnlyInWaitForMachineAndForThisMachine) {
   rig.send(ab::ReqInit{ab::MachineType::kh930});
   EXPECT_EQ(only<ab::CnfInit>(rig.take()).error, ab::err::success);
   rig.send(ab::ReqInit{ab::MachineType::kh930});
-  EXPECT_EQ(only<ab::CnfInit>(rig.take()).error, ab::err::wrong_state);
+  EXPECT_EQ(only<ab::CnfInit>(rig.take()).error, ab::err::wrong_machine_state);
 }
 
 TEST(KnitEmuFirmware, UnknownIdsAreIgnoredAndReqInfoAlwaysAnswered) {
@@ -237,7 +237,7 @@ TEST(KnitEmuFirmware, Kh270Has112NeedlesAnd14ByteLines) {
   EXPECT_EQ(only<ab::CnfInit>(rig.take()).error, ab::err::bad_argument);
   rig.make_ready();
   rig.send(ab::ReqStart{0, 112, false, false});
-  EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::bad_argument);
+  EXPECT_EQ(only<ab::CnfStart>(rig.take()).error, ab::err::bad_needles);
   rig.send(ab::ReqStart{0, 111, false, false});
   EXPECT_EQ(rig.take().size(), 2u);
   std::string pattern(112, '0');

@@ -1,5 +1,6 @@
 // The GRBL 1.1h laser controller model (tools/laser_emu/controller.h), in virtual time: the line
-// protocol ($ commands, filtering, check mode, alarm lock) and the serial side (baud rate, 128-byte buffer).
+// protocol ($ commands, filtering, check mode, alarm lock), the serial side (baud rate, 128-byte
+// buffer) and the DTR line (a host that goes away restarts the board, beam off at once).
 #include <gtest/gtest.h>
 
 #include <deque>
@@ -221,6 +222,72 @@ TEST(LaserEmuSerial, HaltAfterLineStopsListeningButFinishesTheAnswerAndTheMotion
   rig.run(3'000'000);
   EXPECT_EQ(rig.ctl.position()[0], 20.0);  // the planned moves still run out
   EXPECT_EQ(rig.ctl.lines_received(), 2);
+}
+
+constexpr const char* kBanner = "\r\nGrbl 1.1h ['$' for help]\r\n";
+
+TEST(LaserEmuDtr, AHangupMidJobRestartsTheBoardAtOnceWithTheBeamOff) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("M3 S800"), "ok\r\n");
+  fill_planner(rig);                // 15 moves of 100 mm at 60 mm/min: minutes of burning queued
+  rig.send("G1 X5\nG1 X6\n");      // and more waiting in the receive buffer
+  rig.run(500'000);
+  rig.take();
+  ASSERT_EQ(rig.ctl.state_name(), "Run");
+  ASSERT_GT(rig.ctl.laser_s(), 0);
+  const double hangup_s = static_cast<double>(rig.t) * 1e-6;
+
+  rig.ctl.hangup(rig.t);
+  EXPECT_EQ(rig.ctl.laser_s(), 0);
+  EXPECT_EQ(rig.ctl.state_name(), "Idle");  // homing is off ($22=0)
+  EXPECT_EQ(rig.ctl.planner_blocks(), 0);
+  EXPECT_EQ(rig.ctl.rx_used(), 0);
+  EXPECT_EQ(rig.ctl.position(), (Vec3{0, 0, 0})) << "a restarted board starts at its power-up position";
+  rig.run(3'000'000);
+  EXPECT_EQ(rig.take(), "") << "the banner waits for the next host";
+
+  const Record r = rig.ctl.snapshot();
+  for (const Segment& seg : r.segments)
+    if (seg.power > 0) EXPECT_LE(seg.t1, hangup_s + 1e-9) << "burned after the hangup";
+  ASSERT_GE(r.events.size(), 2u);
+  const Event& hangup = r.events[r.events.size() - 2];
+  const Event& beam_off = r.events.back();
+  EXPECT_EQ(hangup.event, "hangup");
+  EXPECT_EQ(beam_off.event, "beam_off");
+  EXPECT_DOUBLE_EQ(beam_off.t, hangup.t);
+
+  rig.ctl.host_connected(rig.t);
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), kBanner);
+  EXPECT_EQ(rig.exchange("G1 X1 F600"), "ok\r\n");  // takes G-code again, from a fresh parser
+}
+
+TEST(LaserEmuDtr, WithHomingEnabledTheRestartedBoardComesBackLockedInAlarm) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("$22=1"), "ok\r\n");
+  rig.ctl.hangup(rig.t);
+  rig.ctl.host_connected(rig.t);
+  rig.run(20'000);
+  EXPECT_EQ(rig.take(), std::string(kBanner) + "[MSG:'$H'|'$X' to unlock]\r\n");
+  EXPECT_EQ(rig.ctl.state_name(), "Alarm");
+  EXPECT_EQ(rig.exchange("G1 X1 F600"), "error:9\r\n");
+  EXPECT_EQ(rig.exchange("$$").find("$22=1\r\n") != std::string::npos, true) << "settings live in EEPROM";
+}
+
+TEST(LaserEmuDtr, ThePowerOnBannerCanWaitForTheFirstHost) {
+  ControllerOptions o;
+  o.banner_waits_for_host = true;
+  Rig rig(o);
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "");
+  rig.ctl.host_connected(rig.t);
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), kBanner);
+  rig.ctl.host_connected(rig.t);  // a host seen again without a hangup: no second banner
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "");
 }
 
 }  // namespace

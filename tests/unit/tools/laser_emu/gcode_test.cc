@@ -66,5 +66,43 @@ TEST(LaserEmuGcode, InchesAndIncrementalAndG92) {
   EXPECT_EQ(state.modes_report(), "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]");
 }
 
+// Numbers GRBL keeps in small integers or floats: range-checked before any cast (these were
+// undefined behaviour: casts of 1e59 or of a 10^11-chord count to int).
+TEST(LaserEmuGcode, HugeNumbersGetGrblsErrorCodesNotUndefinedBehaviour) {
+  Settings settings(400, 400);
+  GcState state;
+  const std::string digits60(60, '9');
+  EXPECT_EQ(execute_gcode_line("G" + digits60, state, settings).status, 2);  // beyond a float
+  EXPECT_EQ(execute_gcode_line("G1X" + digits60 + "F100", state, settings).status, 2);
+  EXPECT_EQ(execute_gcode_line("G256", state, settings).status, 20);         // over GRBL's uint8
+  EXPECT_EQ(execute_gcode_line("M4294967296", state, settings).status, 20);
+  EXPECT_EQ(execute_gcode_line("G99999999999999999999", state, settings).status, 20);
+  EXPECT_EQ(execute_gcode_line("T99999999999999999999", state, settings).status, 38);
+  EXPECT_EQ(execute_gcode_line("N99999999999999999999G0X1", state, settings).status, 27);
+  // A full circle of radius 10^20 mm would take ~5e11 chords, past GRBL's uint16 counter.
+  EXPECT_EQ(execute_gcode_line("G3X0.001Y0I100000000000000000000J0F100", state, settings).status, 33);
+  EXPECT_EQ(state.position, (Vec3{0, 0, 0}));  // nothing of a refused line was applied
+  // Integer settings live in a uint8, as in GRBL: $23=300 is 44, $23=1e70 stays below 256.
+  Settings s2(400, 400);
+  EXPECT_EQ(s2.store(23, 300), 0);
+  EXPECT_EQ(s2.get(23), 44);
+  EXPECT_EQ(s2.store(23, 1e70), 0);
+  EXPECT_LT(s2.get(23), 256);
+}
+
+TEST(LaserEmuGcode, OnlyTheFirstEightDigitsCountAsInGrbl) {
+  EXPECT_EQ([] {
+    double v = 0;
+    size_t pos = 0;
+    read_grbl_float("123456789", pos, v);
+    return v;
+  }(), 123456780.0);
+  double v = 0;
+  size_t pos = 0;
+  ASSERT_TRUE(read_grbl_float("1.234567891", pos, v));
+  EXPECT_DOUBLE_EQ(v, 1.2345678);
+  EXPECT_EQ(pos, 11u);
+}
+
 }  // namespace
 }  // namespace atelier::laser_emu
