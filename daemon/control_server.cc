@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "base/error.h"
+#include "daemon/control_request.h"
 #include "daemon/log.h"
 
 namespace fs = std::filesystem;
@@ -167,15 +168,11 @@ void ControlServer::serve_line(Client& client, const std::string& line, std::vec
   ControlRequest request;
   request.peer = client.peer;
   request.files = std::move(files);
-  nlohmann::json parsed;
+  ParsedRequest parsed;
   try {
-    parsed = nlohmann::json::parse(line);
-  } catch (const nlohmann::json::exception&) {
-    send_line(fd, {{"ok", false}, {"error", "request is not valid JSON"}});
-    return;
-  }
-  if (!parsed.is_object() || !parsed.contains("verb") || !parsed["verb"].is_string()) {
-    send_line(fd, {{"ok", false}, {"error", "request needs a \"verb\" string"}});
+    parsed = parse_request(line);
+  } catch (const ControlError& e) {
+    send_line(fd, {{"ok", false}, {"error", e.what()}});
     return;
   }
   if (request.files.size() > limits_.max_files) {
@@ -184,8 +181,8 @@ void ControlServer::serve_line(Client& client, const std::string& line, std::vec
                                  " open files"}});
     return;
   }
-  request.verb = parsed["verb"].get<std::string>();
-  if (parsed.contains("args")) request.args = parsed["args"];
+  request.verb = std::move(parsed.verb);
+  request.args = std::move(parsed.args);
   if (request.verb == "watch") {
     client.watching = true;
     send_line(fd, {{"ok", true}, {"result", "watching"}});

@@ -311,7 +311,11 @@ bool Controller::run_actions() {
       case Action::Kind::dwell:
         if (check) break;
         if (!wait_sync()) return false;
-        if (!dwell_until_) dwell_until_ = now_ + static_cast<int64_t>(a.seconds * opt_.time_scale * 1e9);
+        if (!dwell_until_) {
+          // At most 1e18 ns (31 years): a huge P ("G4 P99999999999") would overflow int64.
+          const double ns = std::min(a.seconds * opt_.time_scale * 1e9, 1e18);
+          dwell_until_ = now_ + static_cast<int64_t>(ns);
+        }
         if (now_ < *dwell_until_) return false;
         dwell_until_.reset();
         break;

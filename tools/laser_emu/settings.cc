@@ -66,7 +66,7 @@ std::string Settings::listing() const {
 
 int Settings::store(double param, double value) {
   if (value < 0.0) return kNegativeValue;
-  if (param != std::trunc(param) || param > 255) return kInvalidStatement;
+  if (param != std::trunc(param) || param < 0 || param > 255) return kInvalidStatement;
   const int id = static_cast<int>(param);
   bool known = false;
   Fmt fmt = Fmt::decimal3;

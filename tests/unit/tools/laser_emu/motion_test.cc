@@ -239,6 +239,16 @@ TEST(LaserEmuMotion, DwellWaitsForMotionThenForItsTime) {
   EXPECT_NEAR(static_cast<double>(rig.t - sent), 1'500'000.0, 2'000.0);
 }
 
+// Found by fuzz_laser_emu_gcode (tests/fuzz/regressions/laser_emu_gcode/huge-dwell): P seconds
+// in ns overflowed int64 (undefined behaviour), and the dwell ended at once.
+TEST(LaserEmuMotion, AHugeDwellKeepsWaiting) {
+  Rig rig;
+  rig.boot();
+  rig.send("G4 P99999999999\n");
+  rig.run(10'000'000);
+  EXPECT_EQ(rig.take(), "") << "the dwell's ok came before its time";
+}
+
 TEST(LaserEmuMotion, StatusReportFields) {
   Rig rig;
   rig.boot();

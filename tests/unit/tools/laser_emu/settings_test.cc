@@ -36,5 +36,19 @@ TEST(LaserEmuProtocol, SettingsAreStoredWithGrblsChecks) {
   EXPECT_EQ(rig.exchange("$H"), "ok\r\n");
 }
 
+// Undefined behaviour UBSan reports through fuzz_laser_emu_gcode
+// (tests/fuzz/regressions/laser_emu_gcode/huge-setting-numbers): huge numbers
+// were cast to int: "$10=25600000000" was then listed as "$10=-2147483648".
+TEST(LaserEmuProtocol, IntegerSettingsKeepAByteAndSettingNumbersAreInRange) {
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("$10=300"), "ok\r\n");
+  EXPECT_NE(rig.exchange("$$").find("$10=44\r\n"), std::string::npos);  // 300 in a uint8
+  EXPECT_EQ(rig.exchange("$10=25600000000"), "ok\r\n");
+  EXPECT_NE(rig.exchange("$$").find("$10=0\r\n"), std::string::npos);   // 2.56e10 = 10^8 * 256
+  EXPECT_EQ(rig.exchange("$-99999999999=1"), "error:3\r\n");
+  EXPECT_EQ(rig.exchange("$-1=1"), "error:3\r\n");
+}
+
 }  // namespace
 }  // namespace atelier::laser_emu
