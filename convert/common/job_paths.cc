@@ -38,17 +38,6 @@ bool inside(const fs::path& path, const fs::path& root, fs::path& rel) {
 
 }  // namespace
 
-UniqueFd& UniqueFd::operator=(UniqueFd&& o) noexcept {
-  if (this != &o) {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = o.release();
-  }
-  return *this;
-}
-
-UniqueFd::~UniqueFd() {
-  if (fd_ >= 0) ::close(fd_);
-}
 
 PathAccess::PathAccess(std::vector<fs::path> roots, std::string key, std::string source, fs::path base)
     : roots_(std::move(roots)), key_(std::move(key)), source_(std::move(source)), base_(std::move(base)) {}

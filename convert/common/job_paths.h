@@ -23,28 +23,9 @@
 #include <string>
 #include <vector>
 
+#include "base/unique_fd.h"
+
 namespace atelier {
-
-// An owned file descriptor (closed on destruction); -1 = none.
-class UniqueFd {
- public:
-  UniqueFd() = default;
-  explicit UniqueFd(int fd) : fd_(fd) {}
-  UniqueFd(UniqueFd&& o) noexcept : fd_(o.release()) {}
-  UniqueFd& operator=(UniqueFd&& o) noexcept;
-  UniqueFd(const UniqueFd&) = delete;
-  UniqueFd& operator=(const UniqueFd&) = delete;
-  ~UniqueFd();
-  int get() const { return fd_; }
-  int release() {
-    int fd = fd_;
-    fd_ = -1;
-    return fd;
-  }
-
- private:
-  int fd_ = -1;
-};
 
 // How the files named by one parameter are opened: confined beneath `roots` (when `roots` is
 // not empty) or as given. A default-constructed PathAccess is unconfined with no key.

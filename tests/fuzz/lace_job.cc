@@ -33,7 +33,7 @@ int fuzz_lace_job(const uint8_t* data, size_t size) {
     if (job.contains("start_chart"))
       p.start_chart_where = atelier::lace_job_key_where(job, req, "start_chart");
     p.start_chart_file.reset();
-    const auto start = atelier::load_start_chart(p);
+    const auto start = atelier::load_start_chart(p, atelier::PathAccess{});
     atelier::check_lace_budget(p, start ? start->cast_on : p.width,
                                start ? static_cast<int>(start->chart.rows.size()) : p.rows, job, req);
     if (start && p.generations == 0) {
