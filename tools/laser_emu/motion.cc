@@ -13,6 +13,12 @@ double distance(const Vec3& a, const Vec3& b) {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
+// Steps to mm on an axis. With $100..$102 = 0 (accepted, as GRBL does) the axis makes no steps
+// and stays at 0 instead of 0/0 = NaN mm (found by fuzz_laser_emu_gcode).
+double steps_to_mm(long steps, double steps_per_mm) {
+  return steps_per_mm > 0 ? static_cast<double>(steps) / steps_per_mm : 0.0;
+}
+
 }  // namespace
 
 Motion::Motion(const Settings& settings, double time_scale, Record& record, double epoch_at_zero_s)
@@ -20,7 +26,7 @@ Motion::Motion(const Settings& settings, double time_scale, Record& record, doub
 
 Vec3 Motion::planner_position() const {
   Vec3 p;
-  for (int i = 0; i < 3; ++i) p[i] = static_cast<double>(planner_steps_[i]) / settings_.steps_per_mm(i);
+  for (int i = 0; i < 3; ++i) p[i] = steps_to_mm(planner_steps_[i], settings_.steps_per_mm(i));
   return p;
 }
 
@@ -34,7 +40,7 @@ bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time
   if (!moves) return false;  // PLAN_EMPTY_BLOCK
   Block b;
   b.start = planner_position();
-  for (int i = 0; i < 3; ++i) b.end[i] = static_cast<double>(steps[i]) / settings_.steps_per_mm(i);
+  for (int i = 0; i < 3; ++i) b.end[i] = steps_to_mm(steps[i], settings_.steps_per_mm(i));
   b.length = distance(b.start, b.end);
   // limit_value_by_axis_maximum(): the largest rate/acceleration along the move that keeps
   // every axis within its own limit.
@@ -68,7 +74,7 @@ Vec3 Motion::position() const {
 void Motion::set_position(const Vec3& mm) {
   for (int i = 0; i < 3; ++i) {
     planner_steps_[i] = std::lround(mm[i] * settings_.steps_per_mm(i));
-    head_[i] = static_cast<double>(planner_steps_[i]) / settings_.steps_per_mm(i);
+    head_[i] = steps_to_mm(planner_steps_[i], settings_.steps_per_mm(i));
   }
   piece_p0_ = head_;
 }

@@ -2,7 +2,7 @@
 // crashed on (tests/fuzz/regressions/<target>/) goes through its target here, in the normal
 // test binary: each must come back normally. A crash, an abort or an escaping exception is a
 // failed test run ("Fuzzing" in README.md). Inputs under tests/fuzz/known-toml-crashes/ (crashes
-// inside toml++ itself) and tests/fuzz/pending/ (fixed on another branch) are not replayed.
+// inside toml++ itself) are not replayed.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -249,6 +249,18 @@ TEST(LaserEmuMotion, AHugeDwellKeepsWaiting) {
   EXPECT_EQ(rig.take(), "") << "the dwell's ok came before its time";
 }
 
+// Found by fuzz_laser_emu_gcode (tests/fuzz/regressions/laser_emu_gcode/zero-steps-per-mm):
+// with $100=0 an X+Y move computed X as 0/0 mm, and NaN times went into an int64 cast.
+TEST(LaserEmuMotion, AnAxisWithoutStepsStaysWhileTheOthersMove) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("$100=0"), "ok\r\n");
+  ASSERT_EQ(rig.exchange("G93 G1 X5 Y5 F2"), "ok\r\n");  // inverse time: 30 s
+  rig.run(40'000'000);
+  rig.take();
+  EXPECT_EQ(status(rig).rfind("<Idle|MPos:0.000,5.000,0.000|", 0), 0u);
+}
+
 TEST(LaserEmuMotion, StatusReportFields) {
   Rig rig;
   rig.boot();
