@@ -224,14 +224,18 @@ void ControlServer::accept_clients() {
     if (::getsockopt(c, SOL_SOCKET, SO_PEERCRED, &cred, &len) == 0) {
       client.peer = {cred.pid, cred.uid, cred.gid};
     }
-    const size_t same_uid = static_cast<size_t>(std::count_if(
-        clients_.begin(), clients_.end(), [&](const Client& o) { return o.peer.uid == client.peer.uid; }));
+    // A client found closed in this same wake-up no longer holds a place.
+    const size_t same_uid = static_cast<size_t>(std::count_if(clients_.begin(), clients_.end(), [&](const Client& o) {
+      return !o.closing && o.peer.uid == client.peer.uid;
+    }));
+    const size_t open_clients = static_cast<size_t>(
+        std::count_if(clients_.begin(), clients_.end(), [](const Client& o) { return !o.closing; }));
     if (same_uid >= limits_.per_uid) {
       send_farewell(c, "too many connections from uid " + std::to_string(client.peer.uid) + " (at most " +
                            std::to_string(limits_.per_uid) + "); close some and try again");
       continue;
     }
-    if (clients_.size() >= limits_.total) {
+    if (open_clients >= limits_.total) {
       send_farewell(c, "atelierd has too many connections (at most " + std::to_string(limits_.total) +
                            "); try again later");
       continue;
