@@ -165,9 +165,10 @@ ConversionOutcome SubprocessRunner::run(const ConversionTask& task,
   const std::string prefix = task.output_dir.string() + "/";
   for (size_t at; (at = message.find(prefix)) != std::string::npos;) message.erase(at, prefix.size());
   if (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) {
-    // Not the runner's kill (timeout and cancel returned above): the kernel's, for memory.
+    // Not the runner's kill (timeout and cancel returned above): most likely the kernel's, for
+    // memory; an operator's kill -9 looks the same, so the reason says both.
     message = memory_exceeded_reason(task.input.filename().string(), memory_limit_ >> 20) +
-              ": the converter was killed (signal 9)";
+              ": the converter was killed (signal 9, by the kernel for memory or from outside)";
   } else if (WIFSIGNALED(status)) {
     message = "the converter stopped with signal " + std::to_string(WTERMSIG(status)) +
               (WTERMSIG(status) == SIGKILL || WTERMSIG(status) == SIGSEGV
