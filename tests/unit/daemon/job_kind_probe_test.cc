@@ -7,20 +7,13 @@
 
 #include "daemon/job_kind_probe.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/support/fake_program.h"
 
 namespace atelier {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-// A stand-in for atelier-convert: a shell script run with "--job-kind FILE".
-fs::path script(const test::TempDir& tmp, const std::string& body) {
-  const fs::path exe = tmp.path() / "fake-convert";
-  test::write_file(exe, "#!/bin/sh\n" + body + "\n");
-  fs::permissions(exe, fs::perms::owner_all);
-  return exe;
-}
 
 TEST(JobKindProbe, TheRealConverterNamesTheKindOfAJobFile) {
   test::TempDir tmp;
@@ -48,14 +41,14 @@ TEST(JobKindProbe, AFileThatIsNotAJobFileFailsWithoutEchoingItsContent) {
 TEST(JobKindProbe, ACrashOrAHangOfTheChildFailsTheJobFileNamingIt) {
   test::TempDir tmp;
   test::write_file(tmp.path() / "job.toml", "kind = \"lace\"\n");
-  auto crashed = probe_job_kind(script(tmp, "kill -SEGV $$"), tmp.path() / "job.toml", "job.toml");
+  auto crashed = probe_job_kind(test::fake_program(tmp, "kill -SEGV $$"), tmp.path() / "job.toml", "job.toml");
   EXPECT_EQ(crashed.kind, "");
   EXPECT_EQ(crashed.problem.rfind("job.toml: ", 0), 0u) << crashed.problem;
   EXPECT_NE(crashed.problem.find("signal 11"), std::string::npos) << crashed.problem;
 
   JobKindProbeLimits limits;
   limits.timeout = 300ms;
-  auto hung = probe_job_kind(script(tmp, "exec sleep 30"), tmp.path() / "job.toml", "job.toml", limits);
+  auto hung = probe_job_kind(test::fake_program(tmp, "exec sleep 30"), tmp.path() / "job.toml", "job.toml", limits);
   EXPECT_EQ(hung.kind, "");
   EXPECT_EQ(hung.problem.rfind("job.toml: ", 0), 0u) << hung.problem;
   EXPECT_NE(hung.problem.find("took longer"), std::string::npos) << hung.problem;
@@ -64,12 +57,12 @@ TEST(JobKindProbe, ACrashOrAHangOfTheChildFailsTheJobFileNamingIt) {
   // box does not fail good job files).
   JobKindProbeLimits cpu;
   cpu.cpu_seconds = 1;
-  auto looping = probe_job_kind(script(tmp, "while :; do :; done"), tmp.path() / "job.toml", "job.toml", cpu);
+  auto looping = probe_job_kind(test::fake_program(tmp, "while :; do :; done"), tmp.path() / "job.toml", "job.toml", cpu);
   EXPECT_EQ(looping.problem.rfind("job.toml: ", 0), 0u) << looping.problem;
   EXPECT_NE(looping.problem.find("CPU"), std::string::npos) << looping.problem;
 
   // Whatever else the child writes is not passed on.
-  auto chatty = probe_job_kind(script(tmp, "echo 'root:x:0:0' >&2; exit 1"), tmp.path() / "job.toml", "job.toml");
+  auto chatty = probe_job_kind(test::fake_program(tmp, "echo 'root:x:0:0' >&2; exit 1"), tmp.path() / "job.toml", "job.toml");
   EXPECT_EQ(chatty.problem.find("root"), std::string::npos) << chatty.problem;
 }
 
@@ -79,7 +72,7 @@ TEST(JobKindProbe, TheChildRunsUnderTheMemoryLimit) {
   JobKindProbeLimits limits;
   limits.memory_bytes = 256ull << 20;
   // `ulimit -v` prints the address-space limit in KiB: the "kind" it reports.
-  auto found = probe_job_kind(script(tmp, "ulimit -v"), tmp.path() / "job.toml", "job.toml", limits);
+  auto found = probe_job_kind(test::fake_program(tmp, "ulimit -v"), tmp.path() / "job.toml", "job.toml", limits);
   EXPECT_EQ(found.kind, std::to_string(256 * 1024));
 }
 

@@ -8,19 +8,13 @@
 #include "base/error.h"
 #include "daemon/scan_check.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/support/fake_program.h"
 
 namespace atelier {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-fs::path script(const test::TempDir& tmp, const std::string& body) {
-  const fs::path exe = tmp.path() / "fake-convert";
-  test::write_file(exe, "#!/bin/sh\n" + body + "\n");
-  fs::permissions(exe, fs::perms::owner_all);
-  return exe;
-}
 
 std::string refusal(const fs::path& exe, const std::vector<fs::path>& files, ChildLimits limits = {}) {
   try {
@@ -48,20 +42,20 @@ TEST(ScanCheck, AScanThatDecodesPassesAndOneThatDoesNotIsRefusedByName) {
 TEST(ScanCheck, ADecoderThatCrashesOrHangsCostsTheRequestOnly) {
   test::TempDir tmp;
   test::write_file(tmp.path() / "scan.png", "x");
-  const std::string crashed = refusal(script(tmp, "kill -SEGV $$"), {tmp.path() / "scan.png"});
+  const std::string crashed = refusal(test::fake_program(tmp, "kill -SEGV $$"), {tmp.path() / "scan.png"});
   EXPECT_NE(crashed.find("scan.png"), std::string::npos) << crashed;
   EXPECT_NE(crashed.find("signal 11"), std::string::npos) << crashed;
 
   ChildLimits quick;
   quick.timeout = 300ms;
-  const std::string hung = refusal(script(tmp, "exec sleep 30"), {tmp.path() / "scan.png"}, quick);
+  const std::string hung = refusal(test::fake_program(tmp, "exec sleep 30"), {tmp.path() / "scan.png"}, quick);
   EXPECT_NE(hung.find("scan.png"), std::string::npos) << hung;
   EXPECT_NE(hung.find("longer than"), std::string::npos) << hung;
 }
 
 TEST(ChildProcess, ReportsExitCodesSignalsAndOutputOfTheChild) {
   test::TempDir tmp;
-  const ChildResult said = run_child({script(tmp, "echo lace; echo 'error: bad' >&2; exit 3").string()}, {});
+  const ChildResult said = run_child({test::fake_program(tmp, "echo lace; echo 'error: bad' >&2; exit 3").string()}, {});
   EXPECT_EQ(said.end, ChildResult::End::exited);
   EXPECT_EQ(said.code, 3);
   EXPECT_EQ(first_line(said.out), "lace");
@@ -69,7 +63,7 @@ TEST(ChildProcess, ReportsExitCodesSignalsAndOutputOfTheChild) {
 
   ChildLimits one_second_of_cpu;
   one_second_of_cpu.cpu_seconds = 1;
-  const ChildResult spun = run_child({script(tmp, "while :; do :; done").string()}, one_second_of_cpu);
+  const ChildResult spun = run_child({test::fake_program(tmp, "while :; do :; done").string()}, one_second_of_cpu);
   EXPECT_TRUE(spun.out_of_cpu());
 }
 
