@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/e2e/daemon_harness.h"
 #include "tests/support/foreign_user.h"
 
 namespace atelier {
@@ -22,12 +23,6 @@ namespace fs = std::filesystem;
 
 class ClientFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    char pattern[] = "/tmp/client-file-test-XXXXXX";
-    ASSERT_NE(::mkdtemp(pattern), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path write(const std::string& name, const std::string& bytes) {
     std::ofstream(dir_ / name, std::ios::binary) << bytes;
     return dir_ / name;
@@ -38,7 +33,8 @@ class ClientFileTest : public ::testing::Test {
     s << in.rdbuf();
     return s.str();
   }
-  fs::path dir_;
+  test::TempDir tmp_;
+  const fs::path& dir_ = tmp_.path();
 };
 
 TEST_F(ClientFileTest, APassedDescriptorIsCopiedWhateverThePathSays) {

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/fake_clock.h"
+#include "tests/e2e/daemon_harness.h"
 #include "tests/support/foreign_user.h"
 #include "tools/ctl_client.h"
 
@@ -70,14 +71,10 @@ class RawClient {
 class ControlServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    char pattern[] = "/tmp/control-server-test-XXXXXX";
-    ASSERT_NE(::mkdtemp(pattern), nullptr);
-    dir_ = pattern;
     ::chmod(dir_.c_str(), 0755);  // the foreign client must reach the socket
   }
   void TearDown() override {
     server_.reset();
-    fs::remove_all(dir_);
   }
 
   // The handler answers who asked and what each passed file holds.
@@ -99,7 +96,8 @@ class ControlServerTest : public ::testing::Test {
   }
   fs::path socket() const { return dir_ / "control.sock"; }
 
-  fs::path dir_;
+  test::TempDir tmp_;
+  const fs::path& dir_ = tmp_.path();
   FakeClock clock_;
   std::unique_ptr<ControlServer> server_;
 };

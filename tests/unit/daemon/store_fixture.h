@@ -72,15 +72,15 @@ class StoreTest : public ::testing::Test {
   // Shortest chain of allowed edges from queued to `target` (empty for queued itself).
   static std::vector<JobState> path_to(JobState target) {
     std::map<JobState, JobState> parent;
-    std::deque<JobState> todo = {S::queued};
+    std::deque<JobState> frontier = {S::queued};
     std::set<JobState> seen = {S::queued};
-    while (!todo.empty()) {
-      JobState at = todo.front();
-      todo.pop_front();
+    while (!frontier.empty()) {
+      JobState at = frontier.front();
+      frontier.pop_front();
       for (const auto& [from, to] : kAllowed) {
         if (from == at && seen.insert(to).second) {
           parent[to] = at;
-          todo.push_back(to);
+          frontier.push_back(to);
         }
       }
     }
