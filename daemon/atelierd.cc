@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", ATELIER_VERSION);
   CLI11_PARSE(app, argc, argv);
   atelier::log::set_verbose(verbose);
+  atelier::log::init();  // native journal entries under systemd, plain stderr lines otherwise
   atelier::Config config;
   try {
     config = atelier::load_config(config_file);

@@ -23,6 +23,7 @@
 #include "daemon/knit_device.h"
 #include "daemon/laser_device.h"
 #include "daemon/scan_check.h"
+#include "daemon/status_text.h"
 #include "daemon/wood_service.h"
 #include "drivers/serial_transport.h"
 #include "drivers/usb_device.h"
@@ -68,6 +69,7 @@ Daemon::Daemon(fs::path config_file, Config initial)
   store_ = std::make_unique<Store>(c.store_path);
   SpoolLayout layout{c.spool_dir};
   jobs_ = std::make_unique<JobService>(*store_, layout, [this](const JobChange& change) {
+    job_log_.on_change(change);
     if (!control_) return;
     nlohmann::json event = {{"job", job_to_json(change.job)},
                             {"from", change.from},
@@ -400,12 +402,7 @@ void Daemon::reload() {
 }
 
 void Daemon::notify_status() {
-  auto counts = store_->counts();
-  std::ostringstream s;
-  s << "STATUS=queued " << counts[JobState::queued] << ", converting "
-    << counts[JobState::converting] << ", completed " << counts[JobState::completed]
-    << ", failed " << counts[JobState::failed];
-  sd_notify(0, s.str().c_str());
+  sd_notify(0, ("STATUS=" + status_text(store_->counts())).c_str());
 }
 
 int Daemon::run() {

@@ -17,6 +17,7 @@
 #include "daemon/conversion_runner.h"
 #include "daemon/device.h"
 #include "daemon/hot_folder.h"
+#include "daemon/job_log.h"
 #include "daemon/job_service.h"
 #include "daemon/pickup.h"
 #include "daemon/scheduler.h"
@@ -58,6 +59,7 @@ class Daemon {
   int signal_fd_ = -1;
   int lock_fd_ = -1;  // flock on <spool>/.atelierd.lock, held for the daemon's life
   std::unique_ptr<Store> store_;
+  JobLog job_log_;  // every job change, as a record with the job's fields (job_log.h)
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<SubprocessRunner> runner_;

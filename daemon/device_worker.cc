@@ -1,6 +1,7 @@
 #include "daemon/device_worker.h"
 
 #include "base/error.h"
+#include "daemon/job_log.h"
 #include "daemon/log.h"
 
 namespace atelier {
@@ -63,7 +64,7 @@ nlohmann::json DeviceWorker::describe() const {
 void DeviceWorker::set_state(const std::string& state, const std::string& detail) {
   std::lock_guard lock(mu_);
   if (state_ != state)
-    log::info("device " + config_.name + ": " + state + (detail.empty() ? "" : " (" + detail + ")"));
+    log::info(state + (detail.empty() ? "" : " (" + detail + ")"), log::device_fields(config_.name));
   state_ = state;
   detail_ = detail;
 }
@@ -102,6 +103,7 @@ void DeviceWorker::start(int64_t job_id) {
     std::lock_guard lock(mu_);
     armed_.insert(job_id);
   }
+  log::info("armed by atelierctl start for " + config_.name, job_fields(*job));
   wake();
 }
 
@@ -165,7 +167,7 @@ void DeviceWorker::worker() {
         if (run_next()) continue;
       } catch (const std::exception& e) {
         // The store failed under us (e.g. a full disk): say so and try again later.
-        log::error("device " + config_.name + ": " + e.what());
+        log::error(e.what(), log::device_fields(config_.name));
       }
     }
     std::unique_lock lock(mu_);

@@ -413,6 +413,7 @@ bool JobService::finish_cut_off_move(const Job& job) {
     store_.transition(job.id, to, reason, folder.string());
     fs::remove(folder / kFinishFile, ec);
     fs::remove(folder / kClaimFile, ec);
+    if (on_change_) on_change_({*store_.get(job.id), state_name(job.state), state_name(to), reason});
     return true;
   }
   return false;
@@ -459,9 +460,8 @@ std::vector<int64_t> JobService::recover() {
         continue;
       }
     }
-    insert(job);
+    insert(job);  // logged as queued, "recovered after a restart" (job_log.h)
     if (!problem.empty()) fail(id, problem);
-    log::info("job " + dir + ": adopted claimed file " + job.name + " after a restart");
   }
   // 2. Jobs caught mid-way by the crash.
   std::vector<int64_t> queue;

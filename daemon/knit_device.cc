@@ -8,6 +8,7 @@
 #include "base/error.h"
 #include "convert/kinds.h"
 #include "convert/lace/lace_chart_json.h"
+#include "daemon/job_log.h"
 #include "daemon/log.h"
 #include "drivers/ayab/knit_plan.h"
 #include "drivers/ayab/lace_plan.h"
@@ -235,7 +236,7 @@ void KnitDevice::knit(const Work& work) {
       if (!e.wrong_state()) throw;
       // A board that was not reset (e.g. still knitting for a daemon that crashed): reset it
       // through DTR and go through the handshake once more. Refused again: the job fails.
-      log::info(job_tag(id) + ": " + e.what() + "; resetting the board (DTR) and trying once more");
+      log::info(std::string(e.what()) + "; resetting the board (DTR) and trying once more", job_fields(*job));
       link->pulse_dtr(kDtrResetPulse);
       session.connect();
       session.init(plan.machine);
@@ -307,8 +308,7 @@ void KnitDevice::knit(const Work& work) {
   } catch (const std::exception& e) {
     // The pattern does not fit the machine, or its file is unreadable: nothing was knitted.
     jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
-  }
-  log::info(job_tag(id) + ": " + jobs_.store().get(id)->reason);
+  }  // the job's end is logged by JobLog (job_log.h)
 }
 
 }  // namespace atelier

@@ -6,6 +6,7 @@
 
 #include "base/error.h"
 #include "convert/kinds.h"
+#include "daemon/job_log.h"
 #include "daemon/laser_job_checks.h"
 #include "daemon/log.h"
 
@@ -153,19 +154,22 @@ void LaserDevice::run_frame(int64_t id) {
   } framing{this};
   if (stopping()) controls.cancel = true;  // stop() came between the request and now
   set_state("busy", "framing " + job_tag(id) + " (beam off)");
+  const log::Fields fields = job_fields(jobs_.store(), id, config_.name);
   try {
     Connection c = connect_for(id);
     if (!c.program.bounds) throw BadInput("the job has no moves to frame");
     c.session->frame(*c.program.bounds, options_.frame_feed_mm_min, controls);
     c.link->close();
     set_last("framed " + job_tag(id) + " with the beam off");
+    log::info("framed with the beam off", fields);
   } catch (const grbl::Canceled&) {
     set_last("framing of " + job_tag(id) + " stopped");
+    log::info("framing stopped", fields);
   } catch (const std::exception& e) {
     // The job stays ready: framing is a check, and a failed check must not lose the job.
     set_last("framing " + job_tag(id) + " failed: " + e.what());
+    log::warning(std::string("framing failed: ") + e.what(), fields);
   }
-  log::info(config_.name + ": " + describe()["last"].get<std::string>());
 }
 
 LaserDevice::Ending LaserDevice::ending_for(const Error& e, int64_t id, const std::string& at,
@@ -234,9 +238,8 @@ void LaserDevice::run_job(int64_t id) {
       try {
         jobs_.note(id, reason);
       } catch (const std::exception& e) {
-        log::warning("job " + std::to_string(id) + ": pause not recorded: " + e.what());
-      }
-      if (!pause_note.empty()) log::info(job_tag(id) + ": " + reason);
+        log::warning(std::string("pause not recorded: ") + e.what(), job_fields(jobs_.store(), id, config_.name));
+      }  // else logged by JobLog, as the note it is
       if (!pause_note.empty()) return;  // keep the pause in the detail until it ends
     }
     if (!pause_note.empty()) return;
@@ -250,7 +253,7 @@ void LaserDevice::run_job(int64_t id) {
       jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
     } catch (const std::exception& e) {
       // A store hiccup (full disk) must not stop a burn half-way: the next report retries.
-      log::warning("job " + std::to_string(id) + ": progress not recorded: " + e.what());
+      log::warning(std::string("progress not recorded: ") + e.what(), job_fields(jobs_.store(), id, config_.name));
     }
   };
   try {
@@ -285,8 +288,7 @@ void LaserDevice::run_job(int64_t id) {
     jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
   }
   const std::string reason = jobs_.store().get(id)->reason;
-  set_last(job_tag(id) + ": " + reason);
-  log::info(job_tag(id) + ": " + reason);
+  set_last(job_tag(id) + ": " + reason);  // the log has it from JobLog (job_log.h)
 }
 
 }  // namespace atelier

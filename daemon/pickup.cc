@@ -32,14 +32,10 @@ void Pickup::step() {
 void Pickup::claim(const fs::path& entry) {
   auto waiting = retries_.find(entry);
   try {
+    // The new job, and its failure when it was rejected, are logged by JobLog (job_log.h).
     if (auto id = jobs_.claim(entry)) {
       auto job = jobs_.store().get(*id);
-      if (job && job->state == JobState::queued) {
-        log::info("job " + std::to_string(*id) + ": picked up " + entry.string());
-        enqueue_(*id);
-      } else if (job) {
-        log::warning("job " + std::to_string(*id) + ": " + job->reason);
-      }
+      if (job && job->state == JobState::queued) enqueue_(*id);
     }
     if (waiting != retries_.end()) retries_.erase(waiting);  // claimed, or vanished
   } catch (const PickupError& e) {

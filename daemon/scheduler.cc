@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "convert/kinds.h"
+#include "daemon/job_log.h"
 #include "daemon/job_sets.h"
 #include "daemon/log.h"
 
@@ -96,11 +97,11 @@ void Scheduler::worker() {
       convert_one(id);
     } catch (const std::exception& e) {
       // Store or file-system trouble (e.g. a full disk): the job fails, the daemon goes on.
-      log::error("job " + std::to_string(id) + ": " + e.what());
+      log::error(e.what(), job_fields(jobs_.store(), id));
       try {
         jobs_.fail(id, std::string("atelierd could not process the job: ") + e.what());
       } catch (const std::exception& e2) {
-        log::error("job " + std::to_string(id) + ": cannot record the failure: " + e2.what());
+        log::error(std::string("cannot record the failure: ") + e2.what(), job_fields(jobs_.store(), id));
       }
     }
   }
@@ -207,8 +208,6 @@ void Scheduler::convert_one(int64_t id) {
     last_percent = percent;
     for (const Job& j : batch) jobs_.store().set_progress(j.id, percent, 100);
   };
-  log::info("job " + std::to_string(id) + ": converting " + job.name + " (" + job.kind + ")" +
-            (batch.size() > 1 ? " together with jobs " + id_list({batch.begin() + 1, batch.end()}) : ""));
   ConversionOutcome outcome = runner_.run(task, progress, *flag);
   switch (outcome.status) {
     case ConversionOutcome::Status::ok:
@@ -217,7 +216,6 @@ void Scheduler::convert_one(int64_t id) {
         if (device.empty()) {
           jobs_.store().set_progress(j.id, 100, 100);
           jobs_.finish_converted(j.id, JobState::completed, "converted; no device for kind " + j.kind);
-          log::info("job " + std::to_string(j.id) + ": completed");
         } else {
           jobs_.store().set_progress(j.id, 0, 0);  // from here progress counts the device's rows
           jobs_.finish_converted(j.id, JobState::ready, "converted; waiting for " + device);
@@ -280,10 +278,7 @@ void Scheduler::convert_one(int64_t id) {
         cv_.notify_all();
         break;
       }
-      for (const Job& j : batch) {
-        log::warning("job " + std::to_string(j.id) + ": failed: " + outcome.message);
-        jobs_.fail(j.id, outcome.message);
-      }
+      for (const Job& j : batch) jobs_.fail(j.id, outcome.message);  // logged by JobLog
       break;
   }
 }

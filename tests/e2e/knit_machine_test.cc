@@ -4,6 +4,7 @@
 #include <signal.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "tests/e2e/daemon_harness.h"
 
@@ -76,6 +77,21 @@ TEST(E2EKnitMachine, ADroppedImageIsKnittedExactlyAsThePatternSays) {
   auto show = rig.daemon->request("show", {{"id", job["id"]}});
   for (const auto& h : show["result"]["history"]) states.push_back(h["to"]);
   EXPECT_EQ(states, (std::vector<std::string>{"queued", "converting", "ready", "running", "completed"}));
+  // The daemon's stderr (no journal here) tells the job's story, one line per state and a
+  // few progress lines, each naming the job with its kind and, once it runs, the machine.
+  const std::string tag = "job " + std::to_string(job["id"].get<int>()) + " (";
+  std::vector<std::string> story;
+  std::istringstream log(rig.daemon->log());
+  for (std::string line; std::getline(log, line);)
+    if (line.rfind(tag, 0) == 0) story.push_back(line);
+  const std::string rows = std::to_string(expected.size());
+  ASSERT_GE(story.size(), 5u) << rig.daemon->log();
+  EXPECT_EQ(story.front(), tag + "knit): queued: pic3.png, dropped into the hot folder");
+  EXPECT_EQ(story[1], tag + "knit): converting");
+  EXPECT_EQ(story[2], tag + "knit): ready: converted; waiting for knitter");
+  EXPECT_EQ(story[3], tag + "knit, knitter): running: knitting on knitter");
+  EXPECT_EQ(story.back(), tag + "knit, knitter): completed: knitted " + rows + " rows on knitter");
+  EXPECT_LE(story.size(), 5u + 9u) << "progress at most every 10 %:\n" << rig.daemon->log();
 }
 
 TEST(E2EKnitMachine, LinkDropInterruptsAndResumeFromRowFinishesThePattern) {

@@ -21,6 +21,7 @@
 #include "tests/e2e/daemon_harness.h"
 #include "tests/support/job_watch.h"
 #include "tests/support/lace_test_charts.h"
+#include "tests/support/log_capture.h"
 #include "tests/support/simulated_knitter.h"
 #include "tools/knit_emu/faults.h"
 
@@ -219,9 +220,16 @@ TEST(AyabResetOnTheMachine, ABoardLeftKnittingByACrashedDaemonIsResetThroughDtrA
   // so opening it did not reset it.
   test::SimulatedKnitter machine(rig.clock, 2, {}, 50, test::SimulatedKnitter::Wiring::on_pulse_only);
   leave_knitting(machine, rig.clock);
+  test::LogCapture captured;
   const Job job = rig.run(machine);
   ASSERT_EQ(job.state, JobState::completed) << job.reason;
   EXPECT_EQ(machine.dtr_pulses(), 1);
+  // The reset is part of the job's story in the journal: logged with the job's fields.
+  const std::vector<log::Record> records = captured.for_job(rig.id);
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_THAT(records[0].message, ::testing::HasSubstr("resetting the board (DTR) and trying once more"));
+  EXPECT_EQ(records[0].fields.kind, "knit");
+  EXPECT_EQ(records[0].fields.device, "knitter");
   EXPECT_EQ(machine.recorded().size(), 4u) << "every row of the new job, nothing of the old one";
 }
 
