@@ -103,7 +103,7 @@ void DeviceWorker::start(int64_t job_id) {
     std::lock_guard lock(mu_);
     armed_.insert(job_id);
   }
-  log::info("armed by atelierctl start for " + config_.name, job_fields(*job));
+  log::info("armed by atelierctl start", job_fields(jobs_.store(), job_id, config_.name));
   wake();
 }
 

@@ -66,6 +66,7 @@ void LaserDevice::hold(int64_t job_id) {
   if (current_ != job_id || !controls_)
     throw BadInput(job_tag(job_id) + " is not running on " + config_.name);
   controls_->hold.store(true);
+  log::info("feed hold asked by atelierctl hold", job_fields(jobs_.store(), job_id, config_.name));
 }
 
 void LaserDevice::resume(int64_t job_id, int from_row) {
@@ -84,6 +85,7 @@ void LaserDevice::resume(int64_t job_id, int from_row) {
     paused_ = false;
   }
   controls_->hold.store(false);
+  log::info("resume asked by atelierctl resume", job_fields(jobs_.store(), job_id, config_.name));
 }
 
 void LaserDevice::frame(int64_t job_id) {

@@ -53,6 +53,8 @@ std::vector<std::string> journal_fields(const Record& record) {
   if (!f.device.empty()) out.push_back("DEVICE=" + f.device);
   if (!f.state.empty()) out.push_back("STATE=" + f.state);
   if (const char* file = record.where.file_name(); file && *file) {
+    // Ninja compiles "../daemon/x.cc" from the build folder: the file as the tree names it.
+    while (std::strncmp(file, "../", 3) == 0) file += 3;
     out.push_back(std::string("CODE_FILE=") + file);
     out.push_back("CODE_LINE=" + std::to_string(record.where.line()));
   }

@@ -4,7 +4,7 @@
 // A record becomes these fields (empty ones left out):
 //   MESSAGE=<log::text(record)>  PRIORITY=<3|4|6|7>  SYSLOG_IDENTIFIER=atelierd
 //   JOB_ID=<id>  KIND=<kind>  DEVICE=<device>  STATE=<state entered>
-//   CODE_FILE=<source file>  CODE_LINE=<line>  CODE_FUNC=<function>
+//   CODE_FILE=<source file, e.g. daemon/job_log.cc>  CODE_LINE=<line>  CODE_FUNC=<function>
 // so `journalctl -u atelierd JOB_ID=12` lists one job's records, and
 // `journalctl -u atelierd STATE=failed` every failure.
 //

@@ -119,6 +119,21 @@ fs::path DaemonProcess::incoming(const std::string& kind) const {
 
 std::string DaemonProcess::log() const { return slurp(root_ / "atelierd.log"); }
 
+std::vector<std::string> DaemonProcess::job_log(int64_t id) const {
+  const std::string tag = "job " + std::to_string(id) + " (";
+  std::vector<std::string> out;
+  std::istringstream in(log());
+  for (std::string line; std::getline(in, line);) {
+    for (const char* level : {"", "warning: ", "error: "}) {
+      if (line.rfind(level + tag, 0) == 0) {
+        out.push_back(line.substr(std::strlen(level)));
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 void DaemonProcess::start() {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);

@@ -88,6 +88,9 @@ class DaemonProcess {
   std::filesystem::path socket() const { return root_ / "control.sock"; }
   std::filesystem::path config() const { return root_ / "atelierd.toml"; }
   std::string log() const;      // the daemon's stderr so far
+  // The lines of log() about job `id` ("job 12 (knit): ...", also after "warning: " or
+  // "error: "): the job's story as the journal's JOB_ID=12 would show it.
+  std::vector<std::string> job_log(int64_t id) const;
 
   // One control request; returns the response object ({"ok":..., ...}).
   nlohmann::json request(const std::string& verb, const nlohmann::json& args = nlohmann::json::object());

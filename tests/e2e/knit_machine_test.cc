@@ -4,7 +4,6 @@
 #include <signal.h>
 
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 
 #include "tests/e2e/daemon_harness.h"
 
@@ -80,10 +79,7 @@ TEST(E2EKnitMachine, ADroppedImageIsKnittedExactlyAsThePatternSays) {
   // The daemon's stderr (no journal here) tells the job's story, one line per state and a
   // few progress lines, each naming the job with its kind and, once it runs, the machine.
   const std::string tag = "job " + std::to_string(job["id"].get<int>()) + " (";
-  std::vector<std::string> story;
-  std::istringstream log(rig.daemon->log());
-  for (std::string line; std::getline(log, line);)
-    if (line.rfind(tag, 0) == 0) story.push_back(line);
+  const std::vector<std::string> story = rig.daemon->job_log(job["id"].get<int>());
   const std::string rows = std::to_string(expected.size());
   ASSERT_GE(story.size(), 5u) << rig.daemon->log();
   EXPECT_EQ(story.front(), tag + "knit): queued: pic3.png, dropped into the hot folder");

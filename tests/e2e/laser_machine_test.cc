@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -138,6 +139,24 @@ TEST(E2ELaser, ACutJobWaitsForTheOperatorFramesThenBurnsWhatTheSvgShows) {
   auto job = rig.job("box.svg");
   EXPECT_EQ(job["progress"]["done"], job["progress"]["total"]);
   EXPECT_GT(job["progress"]["total"].get<int>(), 10);
+  // The job's story in the log: waiting for the operator, framed, armed, run, done; the
+  // burn's progress in at most nine lines.
+  const std::string tag = "job " + id.dump() + " (cut";
+  const std::vector<std::string> story = rig.daemon->job_log(id.get<int>());
+  auto told = [&](const std::string& line) { return std::find(story.begin(), story.end(), line) != story.end(); };
+  EXPECT_TRUE(told(tag + "): ready: converted; waiting for laser and `atelierctl start " + id.dump() + "`"))
+      << rig.daemon->log();
+  EXPECT_TRUE(told(tag + ", laser): framed with the beam off")) << rig.daemon->log();
+  EXPECT_TRUE(told(tag + ", laser): armed by atelierctl start")) << rig.daemon->log();
+  EXPECT_TRUE(told(tag + ", laser): running on laser")) << rig.daemon->log();
+  ASSERT_FALSE(story.empty());
+  EXPECT_EQ(story.back().rfind(tag + ", laser): completed: ran " + job["progress"]["total"].dump() + " G-code lines on laser", 0), 0u)
+      << story.back();
+  const auto progress = std::count_if(story.begin(), story.end(), [&](const std::string& l) {
+    return l.find(", laser): ") != std::string::npos && l.find(" %: line ") != std::string::npos;
+  });
+  EXPECT_GE(progress, 1);
+  EXPECT_LE(progress, 9) << rig.daemon->log();
 
   const json rec = rig.finish();
   EXPECT_EQ(rec["rx_overflows"], 0) << "the receive buffer overflowed: a real job would be corrupted";

@@ -163,6 +163,16 @@ TEST(E2EParquetry, APhotoIsCutSheetBySheetWithPausesAndASecondPlansOnFreeWood) {
   }
   ASSERT_EQ(rig.job("fish.jpg")["state"], "completed") << rig.job("fish.jpg").dump() << rig.daemon->log();
   EXPECT_EQ(pauses, used_sheets.size() - 1);
+  // Each sheet swap is in the job's story: the pause, the operator's resume, the run going on.
+  size_t paused_lines = 0, resume_lines = 0, resumed_lines = 0;
+  for (const std::string& line : rig.daemon->job_log(id.get<int>())) {
+    paused_lines += line.find("): running: paused by the program (M0): ") != std::string::npos;
+    resume_lines += line.find(", laser): resume asked by atelierctl resume") != std::string::npos;
+    resumed_lines += line.find("): running: resumed after the program pause") != std::string::npos;
+  }
+  EXPECT_EQ(paused_lines, pauses) << rig.daemon->log();
+  EXPECT_EQ(resume_lines, pauses) << rig.daemon->log();
+  EXPECT_EQ(resumed_lines, pauses) << rig.daemon->log();
 
   // What burned is what the cut files show, all sheets at the origin.
   rig.emulator->stop();
