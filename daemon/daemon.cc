@@ -422,6 +422,9 @@ int Daemon::run() {
     });
     try {
       usb_monitor_->start();
+      log::info(usb_monitor_->mode() == UsbHotplugMonitor::Mode::hotplug
+                    ? "USB devices: libusb hotplug events"
+                    : "USB devices: polled (libusb offers no hotplug here)");
     } catch (const std::exception& e) {
       log::warning(std::string("USB hotplug unavailable, devices are polled: ") + e.what());
       usb_monitor_.reset();
