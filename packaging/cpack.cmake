@@ -1,5 +1,5 @@
-# Debian packages made by the build: `cmake --build build --target package` in a build
-# configured with -DCMAKE_INSTALL_PREFIX=/usr (tools/make-deb does both) writes
+# Debian packages made by the build: `cmake --build build --target package` (or `cpack` in a
+# built build folder; tools/make-deb configures a build of the programs only and runs it) writes
 #   atelier_VERSION_amd64.deb            component "atelier": the daemon, atelierctl,
 #                                        atelier-convert, the unit, sysusers.d, tmpfiles.d,
 #                                        udev rules, /etc/atelier/atelierd.toml (a conffile),
@@ -22,12 +22,13 @@ set(CPACK_PACKAGE_CONTACT "atelier maintainers <atelier@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "workshop fabrication daemon: hot folder, job queue, knitting machine and laser")
 set(CPACK_PACKAGE_DESCRIPTION
   "atelierd turns images dropped into a hot folder into fabrication data (knitting, lace,\n embroidery, parquetry, sketch and laser-cut jobs) and drives the machines on the box:\n Brother knitting machines through AYAB and GRBL 1.1 laser cutters.")
-# The packaged files keep the configured layout (the unit's ExecStart and --config name them),
-# and absolute destinations (/etc, /lib/systemd/system) need a DESTDIR install.
-set(CPACK_PACKAGING_INSTALL_PREFIX ${CMAKE_INSTALL_PREFIX})
+# A package installs into /usr, from any build (whatever its CMAKE_INSTALL_PREFIX): the install
+# scripts of systemd/ and config/ work out the unit's ExecStart and --config and the absolute
+# destinations (/etc, /lib/systemd/system) from the install-time prefix, and those need a
+# DESTDIR install.
+set(CPACK_INSTALL_PREFIX /usr)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_SET_DESTDIR ON)
-set(CPACK_PROJECT_CONFIG_FILE ${PROJECT_SOURCE_DIR}/packaging/cpack-project-config.cmake)
-set(ATELIER_PACKAGE_PREFIX ${CMAKE_INSTALL_PREFIX})
 
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL atelier emulators)
@@ -50,11 +51,8 @@ set(CPACK_DEBIAN_EMULATORS_PACKAGE_NAME atelier-emulators)
 set(CPACK_DEBIAN_EMULATORS_PACKAGE_SECTION misc)
 
 # /etc/atelier/atelierd.toml is a conffile: an upgrade keeps the workshop's edits (dpkg asks).
-set(ATELIER_CONFFILE ${CMAKE_INSTALL_FULL_SYSCONFDIR}/atelier/atelierd.toml)
-configure_file(${PROJECT_SOURCE_DIR}/packaging/debian/conffiles.in
-  ${PROJECT_BINARY_DIR}/packaging/conffiles @ONLY)
 set(CPACK_DEBIAN_ATELIER_PACKAGE_CONTROL_EXTRA
-  ${PROJECT_BINARY_DIR}/packaging/conffiles
+  ${PROJECT_SOURCE_DIR}/packaging/debian/conffiles
   ${PROJECT_SOURCE_DIR}/packaging/debian/postinst
   ${PROJECT_SOURCE_DIR}/packaging/debian/prerm
   ${PROJECT_SOURCE_DIR}/packaging/debian/postrm)
