@@ -36,6 +36,22 @@ root_pids() {
   done
 }
 
+# reap_stale_roots: what a run killed from outside (a ctest timeout's SIGKILL skips the trap)
+# left behind: each earlier root's systemd, then its folder.
+reap_stale_roots() {
+  local dir pid
+  for dir in /var/tmp/atelier-boot-test.*; do
+    [ -d "$dir" ] && [ "$dir" != "${RUN:-}" ] || continue
+    pid=$(cat "$dir/systemd.pid" 2>/dev/null)
+    if [ -n "$pid" ] && [ "$(readlink "/proc/$pid/root" 2>/dev/null)" = "$dir/root" ]; then
+      echo "boot-test: killing the systemd (pid $pid) of an earlier run in $dir"
+      kill -KILL "$pid"
+      sleep 1
+    fi
+    grep -qF " $dir" /proc/self/mountinfo || rm -rf "$dir"
+  done
+}
+
 boot_container() {
   local unit state deadline
   for unit in "${MASKED_UNITS[@]}"; do ln -sf /dev/null "$ROOT/etc/systemd/system/$unit"; done
@@ -65,6 +81,7 @@ boot_container() {
     [ -n "$SYSTEMD_PID" ] || sleep 0.2
   done
   PIDNS=$(readlink "/proc/$SYSTEMD_PID/ns/pid")
+  echo "$SYSTEMD_PID" > "$RUN/systemd.pid"
   echo "  systemd: host pid $SYSTEMD_PID ($PIDNS)"
   # Until the boot is done: running, or degraded when a unit failed (listed, then it fails).
   deadline=$(( $(date +%s) + 120 ))
