@@ -66,7 +66,7 @@ struct Config {
   // Retention (daemon/retention.h): finished jobs (completed, failed, canceled) whose last
   // change is more than keep_days days old are purged, rows and output folders, and at most
   // keep_jobs of them are kept (the most recently finished); 0 turns either limit off.
-  // Checked at start-up and every hour; a SIGHUP reload applies at the next check.
+  // Checked at start-up, every hour and at once after a SIGHUP reload.
   int keep_days = 30;
   int keep_jobs = 500;
 

@@ -399,6 +399,7 @@ void Daemon::reload() {
       config_ = std::make_shared<const Config>(std::move(fresh));
     }
     log::info("reloaded " + config_file_.string());
+    purge_->wake();  // retention ([store] keep_days, keep_jobs) as now configured
   } catch (const std::exception& e) {
     log::error("reload failed, keeping the running configuration: " + std::string(e.what()));
   }

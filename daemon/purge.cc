@@ -90,6 +90,14 @@ void PurgeWorker::start() {
   thread_ = std::thread([this] { run(); });
 }
 
+void PurgeWorker::wake() {
+  {
+    std::lock_guard lock(mu_);
+    woken_ = true;
+  }
+  wake_.notify_all();
+}
+
 void PurgeWorker::stop() {
   {
     std::lock_guard lock(mu_);
@@ -112,7 +120,9 @@ void PurgeWorker::run() {
     for (const std::string& p : report.problems) log::warning("retention: " + p);
     if (on_pass_) on_pass_(report);
     std::unique_lock lock(mu_);
-    if (clock_.wait_for(wake_, lock, period_, [this] { return stopping_; })) return;
+    clock_.wait_for(wake_, lock, period_, [this] { return stopping_ || woken_; });
+    if (stopping_) return;
+    woken_ = false;
   }
 }
 

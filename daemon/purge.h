@@ -10,7 +10,8 @@
 // the purged job is removed, opened beneath the spool without following symlinks
 // (daemon/remove_tree.h); anything else recorded is left alone and forgotten, with a warning.
 // Threading: purge_finished_jobs() may run beside the daemon's other threads (the store
-// serialises; the folders are those of finished jobs). PurgeWorker's methods: one thread.
+// serialises; the folders are those of finished jobs). PurgeWorker: start() and stop() from
+// one thread, wake() from any.
 #pragma once
 
 #include <condition_variable>
@@ -41,7 +42,7 @@ PurgeReport purge_finished_jobs(Store& store, const SpoolLayout& layout, const R
 // "retention: purged 3 finished jobs (4, 7, 9) ..." for the log; "" when nothing happened.
 std::string purge_summary(const PurgeReport& report, const RetentionPolicy& policy);
 
-// Runs a pass at start() and then every `period` on `clock`, on its own thread, with the
+// Runs a pass at start(), at each wake() and otherwise every `period` on `clock`, on its own thread, with the
 // policy `policy()` returns at that moment (so a reloaded config applies at the next pass).
 // Each pass's summary is logged (daemon/log.h) and handed to `on_pass` (if any, on the
 // worker's thread). The wall-clock time of a pass is now_ms(). The store must outlive it.
@@ -55,6 +56,9 @@ class PurgeWorker {
   PurgeWorker& operator=(const PurgeWorker&) = delete;
 
   void start();
+  // A pass now rather than at the end of the period (after a reload of the config); the
+  // period starts again after it. From any thread.
+  void wake();
   // Returns once the worker's thread has ended (a pass under way is finished first).
   void stop();
 
@@ -69,6 +73,7 @@ class PurgeWorker {
   std::mutex mu_;
   std::condition_variable_any wake_;
   bool stopping_ = false;
+  bool woken_ = false;
   std::thread thread_;
 };
 

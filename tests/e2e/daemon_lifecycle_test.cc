@@ -129,7 +129,7 @@ TEST(E2EDaemon, ASecondDaemonOnTheSameSpoolIsRefusedAndTheFirstKeepsServing) {
   EXPECT_EQ(daemon.stop(SIGTERM), 0);
 }
 
-TEST(E2EDaemon, AtStartUpFinishedJobsOlderThanThirtyDaysArePurgedWithTheirFolders) {
+TEST(E2EDaemon, FinishedJobsPastRetentionArePurgedWithTheirFoldersAtStartUpAndAtOnceOnReload) {
   TempDir tmp;
   DaemonProcess daemon(tmp.path());  // [store] keep_days and keep_jobs at their defaults
   constexpr int64_t kDay = int64_t{24} * 60 * 60 * 1000;
@@ -172,5 +172,15 @@ TEST(E2EDaemon, AtStartUpFinishedJobsOlderThanThirtyDaysArePurgedWithTheirFolder
   EXPECT_TRUE(daemon.wait_for([&] { return daemon.log().find("retention: purged 2 finished jobs") != std::string::npos; },
                               std::chrono::seconds(10)))
       << daemon.log();
+  // A reload with a shorter keep_days purges at once, not at the next hour.
+  std::string cfg = atelier::test::read_file(daemon.config());
+  const std::string store = "[store]\npath = \"jobs.sqlite\"\n";
+  ASSERT_NE(cfg.find(store), std::string::npos) << cfg;
+  cfg.replace(cfg.find(store), store.size(), store + "keep_days = 28\n");
+  atelier::test::write_file(daemon.config(), cfg);
+  ::kill(daemon.pid(), SIGHUP);
+  ASSERT_TRUE(daemon.wait_for([&] { return ids().size() == 1; }, std::chrono::seconds(30))) << daemon.log();
+  EXPECT_EQ(ids(), std::set<int64_t>{interrupted});
+  EXPECT_FALSE(fs::exists(daemon.spool() / "done" / std::to_string(recent)));
   EXPECT_EQ(daemon.stop(SIGTERM), 0);
 }

@@ -248,5 +248,22 @@ TEST_F(Purge, TheWorkerPurgesAtStartAndThenEveryPeriodWithThePolicyOfTheMoment) 
   worker.stop();
 }
 
+TEST_F(Purge, AWakeRunsAPassAtOnceAsAfterAReload) {
+  FakeClock clock;
+  Passes passes;
+  std::atomic<int> keep_jobs{0};
+  const int64_t a = job(JobState::completed, 3000);
+  const int64_t b = job(JobState::completed, 2000);
+  PurgeWorker worker(store_, layout_, [&] { return RetentionPolicy{0, keep_jobs.load()}; }, clock,
+                     std::chrono::hours(1), [&](const PurgeReport& r) { passes.add(r); });
+  worker.start();
+  EXPECT_TRUE(passes.await(1).jobs.empty()) << "no limit: nothing to purge";
+  keep_jobs = 1;  // the config reloaded with [store] keep_jobs = 1
+  worker.wake();
+  EXPECT_EQ(passes.await(2).jobs, std::vector<int64_t>{a}) << "without waiting for the hour";
+  EXPECT_TRUE(store_.get(b));
+  worker.stop();
+}
+
 }  // namespace
 }  // namespace atelier
