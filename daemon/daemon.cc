@@ -77,6 +77,10 @@ Daemon::Daemon(fs::path config_file, Config initial)
     control_->publish(event);
   });
   jobs_->ensure_layout();
+  purge_ = std::make_unique<PurgeWorker>(*store_, layout, [this] {
+    auto c = config();
+    return RetentionPolicy{c->keep_days, c->keep_jobs};
+  });
   // Parquetry's wood library and stock of used wood (Config::state_dir()).
   fs::create_directories(c.state_dir() / "wood");
   fs::create_directories(c.state_dir() / "wood-stock");
@@ -130,6 +134,7 @@ Daemon::~Daemon() {
   // The control thread calls into everything else: stop it first (also when run() threw).
   if (control_) control_->stop();
   if (usb_monitor_) usb_monitor_->stop();
+  if (purge_) purge_->stop();
   for (auto& d : devices_) d->stop();
   if (scheduler_) scheduler_->stop();
   if (lock_fd_ >= 0) ::close(lock_fd_);
@@ -394,6 +399,7 @@ void Daemon::reload() {
       config_ = std::make_shared<const Config>(std::move(fresh));
     }
     log::info("reloaded " + config_file_.string());
+    purge_->wake();  // retention ([store] keep_days, keep_jobs) as now configured
   } catch (const std::exception& e) {
     log::error("reload failed, keeping the running configuration: " + std::string(e.what()));
   }
@@ -414,6 +420,7 @@ int Daemon::run() {
   hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
   pickup_ = std::make_unique<Pickup>(*hot_folder_, *jobs_, [this](int64_t id) { scheduler_->enqueue(id); });
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
+  purge_->start();  // old finished jobs go now and every hour (only finished ones: not these)
   scheduler_->start(cfg->workers);
   for (auto& d : devices_) static_cast<DeviceWorker&>(*d).start_worker();
   if (std::any_of(devices_.begin(), devices_.end(), [](const auto& d) { return !d->config().usb.empty(); })) {
@@ -480,6 +487,7 @@ int Daemon::run() {
   log::info("stopping: no new jobs; conversions in progress are re-queued");
   pickup_.reset();
   hot_folder_.reset();
+  purge_->stop();
   if (usb_monitor_) usb_monitor_->stop();
   scheduler_->stop();
   for (auto& d : devices_) d->stop();  // a job being knitted ends interrupted, never resumed alone

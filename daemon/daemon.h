@@ -19,6 +19,7 @@
 #include "daemon/hot_folder.h"
 #include "daemon/job_service.h"
 #include "daemon/pickup.h"
+#include "daemon/purge.h"
 #include "daemon/scheduler.h"
 #include "daemon/store.h"
 #include "drivers/usb_hotplug.h"
@@ -60,6 +61,7 @@ class Daemon {
   std::unique_ptr<Store> store_;
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<JobService> jobs_;
+  std::unique_ptr<PurgeWorker> purge_;  // retention: at start-up, then hourly
   std::unique_ptr<SubprocessRunner> runner_;
   std::unique_ptr<Scheduler> scheduler_;
   std::unique_ptr<HotFolder> hot_folder_;

@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
+
 #include "daemon/store_schema.h"
 
 namespace atelier {
@@ -419,6 +421,66 @@ std::map<JobState, int64_t> Store::counts() {
   Stmt s(db_, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
   while (s.step()) result[parse_state(db_, s.text(0), "a job row")] = s.integer(1);
   return result;
+}
+
+// Retention. The finished states as an SQL list of literals: the code's own state names.
+namespace {
+std::string finished_states_sql() {
+  std::string list;
+  for (JobState s : {JobState::queued, JobState::converting, JobState::ready, JobState::running,
+                     JobState::completed, JobState::failed, JobState::canceled, JobState::interrupted})
+    if (is_finished(s)) list += (list.empty() ? "'" : ", '") + state_name(s) + "'";
+  return "(" + list + ")";
+}
+}  // namespace
+
+std::vector<FinishedJob> Store::finished_jobs() {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "SELECT id, updated_ms FROM jobs WHERE state IN " + finished_states_sql() + " ORDER BY id");
+  std::vector<FinishedJob> out;
+  while (s.step()) out.push_back({s.integer(0), s.integer(1)});
+  return out;
+}
+
+std::vector<int64_t> Store::purge(const std::vector<int64_t>& ids) {
+  std::lock_guard lock(mu_);
+  Transaction tx(db_);
+  std::vector<int64_t> deleted;
+  const std::string finished = finished_states_sql();
+  for (int64_t id : ids) {
+    std::string output_dir;
+    {
+      // Checked again here, under the write lock: a job retried since it was chosen stays.
+      Stmt s(db_, "SELECT output_dir FROM jobs WHERE id = ?1 AND state IN " + finished);
+      s.bind(1, id);
+      if (!s.step()) continue;
+      output_dir = s.text(0);
+    }
+    if (!output_dir.empty()) {
+      Stmt s(db_, "INSERT OR REPLACE INTO purged_folders (job_id, path) VALUES (?1, ?2)");
+      s.bind(1, id).bind(2, output_dir);
+      s.run();
+    }
+    Stmt(db_, "DELETE FROM events WHERE job_id = ?1").bind(1, id).run();
+    Stmt(db_, "DELETE FROM jobs WHERE id = ?1").bind(1, id).run();
+    deleted.push_back(id);
+  }
+  tx.commit();
+  std::sort(deleted.begin(), deleted.end());
+  return deleted;
+}
+
+std::vector<PurgedFolder> Store::purged_folders() {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "SELECT job_id, path FROM purged_folders ORDER BY job_id");
+  std::vector<PurgedFolder> out;
+  while (s.step()) out.push_back({s.integer(0), s.text(1)});
+  return out;
+}
+
+void Store::forget_purged_folder(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  Stmt(db_, "DELETE FROM purged_folders WHERE job_id = ?1").bind(1, job_id).run();
 }
 
 }  // namespace atelier

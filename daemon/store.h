@@ -34,6 +34,10 @@ std::optional<JobState> state_from_name(const std::string& name);
 // ready->running|completed|canceled; running->completed|failed|canceled|interrupted;
 // failed|interrupted|canceled->queued (retry); interrupted->running (resume).
 bool transition_allowed(JobState from, JobState to);
+// Completed, failed or canceled: nothing more happens to the job unless an operator retries
+// it, so retention ([store] keep_days, keep_jobs) may purge it. Interrupted is not finished
+// (a knitting job waits there to be resumed from a row), nor is any state before.
+bool is_finished(JobState s);
 
 struct Job {
   int64_t id = 0;
@@ -57,6 +61,18 @@ struct JobEvent {
   std::string from;  // empty for the creation event
   std::string to;
   std::string reason;
+};
+
+// A finished job as retention sees it (daemon/retention.h).
+struct FinishedJob {
+  int64_t id = 0;
+  int64_t finished_ms = 0;  // its last change (updated_ms): when it finished
+};
+
+// The output folder of a purged job, still to be removed from the spool.
+struct PurgedFolder {
+  int64_t job_id = 0;
+  std::string path;  // as recorded in the job's output_dir
 };
 
 struct JobFilter {
@@ -101,6 +117,17 @@ class Store {
   std::vector<Job> list(const JobFilter& filter);     // newest first (id descending)
   std::vector<JobEvent> history(int64_t id);          // oldest first
   std::map<JobState, int64_t> counts();               // every state, zero included
+
+  // Retention (daemon/retention.h chooses the jobs, daemon/purge.h removes their folders).
+  // Every finished job (is_finished), in id order.
+  std::vector<FinishedJob> finished_jobs();
+  // One transaction: deletes each job of `ids` that is still finished (an unfinished or
+  // unknown one is skipped), its events with it, and records its output folder (if it has
+  // one) in purged_folders. Returns the ids deleted, ascending.
+  std::vector<int64_t> purge(const std::vector<int64_t>& ids);
+  // The folders purge() recorded and forget_purged_folder() has not yet dropped, by job id.
+  std::vector<PurgedFolder> purged_folders();
+  void forget_purged_folder(int64_t job_id);
 
  private:
   void exec(const char* sql);

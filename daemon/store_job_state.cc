@@ -47,6 +47,10 @@ bool transition_allowed(JobState from, JobState to) {
   return false;
 }
 
+bool is_finished(JobState s) {
+  return s == JobState::completed || s == JobState::failed || s == JobState::canceled;
+}
+
 int64_t now_ms() {
   using namespace std::chrono;
   return duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count();
