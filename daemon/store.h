@@ -25,6 +25,7 @@ class StoreError : public InternalError {
   using InternalError::InternalError;
 };
 
+// In the order of base/job_states.h (kJobStateNames), which names them.
 enum class JobState { queued, converting, ready, running, completed, failed, canceled, interrupted };
 
 std::string state_name(JobState s);                       // "queued", ...
@@ -62,7 +63,7 @@ struct JobEvent {
 struct JobFilter {
   std::optional<JobState> state;
   std::optional<std::string> kind;
-  int limit = 1000;  // newest first
+  int64_t limit = 1000;  // the newest `limit` jobs; negative: every job (count() ignores it)
 };
 
 class Store {
@@ -99,6 +100,7 @@ class Store {
 
   std::optional<Job> get(int64_t id);
   std::vector<Job> list(const JobFilter& filter);     // newest first (id descending)
+  int64_t count(const JobFilter& filter);             // jobs matching state and kind, any limit
   std::vector<JobEvent> history(int64_t id);          // oldest first
   std::map<JobState, int64_t> counts();               // every state, zero included
 
