@@ -189,7 +189,7 @@ nlohmann::json DaemonProcess::request(const std::string& verb, const nlohmann::j
 
 nlohmann::json DaemonProcess::jobs() {
   auto r = request("list", {{"limit", 0}});  // 0: every job
-  return r.at("result").at("jobs");
+  return r.at("result").at("jobs");  // {"jobs": [...], "total": n}
 }
 
 bool DaemonProcess::wait_for(const std::function<bool()>& done, std::chrono::milliseconds timeout) {

@@ -13,13 +13,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct VersionRun {
   int exit_code = -1;
   std::string out;
 };
 
-Run run_version(const fs::path& program) {
-  Run r;
+VersionRun run_version(const fs::path& program) {
+  VersionRun r;
   const std::string command = "'" + program.string() + "' --version 2>/dev/null </dev/null";
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -35,7 +35,7 @@ class VersionFlag : public ::testing::TestWithParam<const char*> {};
 TEST_P(VersionFlag, PrintsProgramAndVersionAndExitsZero) {
   const fs::path program = fs::path(ATELIER_BINARY_DIR) / "bin" / GetParam();
   ASSERT_TRUE(fs::exists(program)) << program << " is not built";
-  const Run r = run_version(program);
+  const VersionRun r = run_version(program);
   EXPECT_EQ(r.exit_code, 0) << program;
   EXPECT_EQ(r.out, std::string(GetParam()) + " " + ATELIER_VERSION + "\n") << program;
 }
