@@ -13,10 +13,6 @@ namespace atelier {
 inline constexpr std::array<std::string_view, 8> kJobStateNames = {
     "queued", "converting", "ready", "running", "completed", "failed", "canceled", "interrupted"};
 
-// The states a job still has work ahead in (what `cancel --all` cancels).
-inline constexpr std::array<std::string_view, 4> kUnfinishedJobStateNames = {
-    "queued", "converting", "ready", "running"};
-
 // "queued, converting, ready, ..." for messages.
 inline std::string job_state_list_text() {
   std::string out;

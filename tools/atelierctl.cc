@@ -73,7 +73,7 @@ std::string render_job_or_value(const json& result) {
   return atelier::ctl::format_value(result);
 }
 
-// A usage error found after parsing (an unknown --state or --kind): message, exit 2.
+// A usage error found after parsing (an unknown --state): message, exit 2.
 struct UsageError {
   std::string message;
 };
