@@ -48,6 +48,15 @@ class Daemon {
   nlohmann::json devices_json() const;
   Device* device_for(const Job& job) const;
   Device& device_of_job(int64_t id);
+  // `cancel ID`: asks the job's device or the scheduler to stop it; throws ControlError when
+  // the job is finished.
+  void request_cancel(const Job& job);
+  // `cancel --all`: every queued, converting, ready and running job.
+  nlohmann::json cancel_all();
+  // The answer to a command on job `before.id`: the job as it is now, after waiting (`wait`,
+  // briefly) for its state or reason to move on; `effect` (what the command set under way)
+  // is added when the job does not show it yet.
+  nlohmann::json after_command(const Job& before, bool wait, const std::string& effect = "");
   void reload();
   void notify_status();
   std::shared_ptr<const Config> config() const;

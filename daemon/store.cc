@@ -370,25 +370,40 @@ std::optional<Job> Store::get(int64_t id) {
   return read_job(db_, s);
 }
 
-std::vector<Job> Store::list(const JobFilter& filter) {
-  std::lock_guard lock(mu_);
-  // The SQL text varies only by which constant clauses are present; values are bound.
-  std::string sql = std::string("SELECT ") + kJobColumns + " FROM jobs";
-  if (filter.state && filter.kind) {
-    sql += " WHERE state = ?1 AND kind = ?2";
-  } else if (filter.state) {
-    sql += " WHERE state = ?1";
-  } else if (filter.kind) {
-    sql += " WHERE kind = ?2";
-  }
-  sql += " ORDER BY id DESC LIMIT ?3";
-  Stmt s(db_, sql);
+namespace {
+
+// " WHERE ..." for a filter's state (?1) and kind (?2); the SQL text varies only by which
+// constant clauses are present, values are bound.
+std::string filter_clause(const JobFilter& filter) {
+  if (filter.state && filter.kind) return " WHERE state = ?1 AND kind = ?2";
+  if (filter.state) return " WHERE state = ?1";
+  if (filter.kind) return " WHERE kind = ?2";
+  return "";
+}
+
+void bind_filter(Stmt& s, const JobFilter& filter) {
   if (filter.state) s.bind(1, state_name(*filter.state));
   if (filter.kind) s.bind(2, *filter.kind);
-  s.bind(3, static_cast<int64_t>(filter.limit));
+}
+
+}  // namespace
+
+std::vector<Job> Store::list(const JobFilter& filter) {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, std::string("SELECT ") + kJobColumns + " FROM jobs" + filter_clause(filter) +
+                  " ORDER BY id DESC LIMIT ?3");
+  bind_filter(s, filter);
+  s.bind(3, filter.limit < 0 ? int64_t{-1} : filter.limit);  // SQLite: LIMIT -1 is no limit
   std::vector<Job> jobs;
   while (s.step()) jobs.push_back(read_job(db_, s));
   return jobs;
+}
+
+int64_t Store::count(const JobFilter& filter) {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "SELECT COUNT(*) FROM jobs" + filter_clause(filter));
+  bind_filter(s, filter);
+  return s.step() ? s.integer(0) : 0;
 }
 
 std::vector<JobEvent> Store::history(int64_t id) {

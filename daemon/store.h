@@ -25,6 +25,7 @@ class StoreError : public InternalError {
   using InternalError::InternalError;
 };
 
+// In the order of base/job_states.h (kJobStateNames), which names them.
 enum class JobState { queued, converting, ready, running, completed, failed, canceled, interrupted };
 
 std::string state_name(JobState s);                       // "queued", ...
@@ -78,7 +79,7 @@ struct PurgedFolder {
 struct JobFilter {
   std::optional<JobState> state;
   std::optional<std::string> kind;
-  int limit = 1000;  // newest first
+  int64_t limit = 1000;  // the newest `limit` jobs; negative: every job (count() ignores it)
 };
 
 class Store {
@@ -115,6 +116,7 @@ class Store {
 
   std::optional<Job> get(int64_t id);
   std::vector<Job> list(const JobFilter& filter);     // newest first (id descending)
+  int64_t count(const JobFilter& filter);             // jobs matching state and kind, any limit
   std::vector<JobEvent> history(int64_t id);          // oldest first
   std::map<JobState, int64_t> counts();               // every state, zero included
 

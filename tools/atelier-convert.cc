@@ -194,6 +194,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-file-bytes", limits.max_file_bytes, "largest input file in bytes");
   app.add_option("--max-pixels", limits.max_pixels, "largest input image in pixels");
+  app.set_version_flag("--version", "atelier-convert " ATELIER_VERSION, "print \"atelier-convert VERSION\" and exit");
   bool check_only = false;
   app.add_flag("--check", check_only,
                "only parse and check --params and --set (INPUT and OUTPUT_DIR are not read; give -)");

@@ -503,6 +503,24 @@ TEST_F(StoreTest, ListFiltersByStateAndKindNewestFirst) {
   EXPECT_EQ(lace[0].reason, "canceled by user");
 }
 
+TEST_F(StoreTest, CountIsEveryMatchingJobWhateverTheLimitAndANegativeLimitListsAll) {
+  Store store(db_path());
+  for (int i = 0; i < 1003; ++i) add_job(store, i % 5 == 0 ? "lace" : "knit", "j" + std::to_string(i) + ".png");
+  JobFilter page;  // the default page: the 1000 newest
+  EXPECT_EQ(store.list(page).size(), 1000u);
+  EXPECT_EQ(store.count(page), 1003);
+  JobFilter every;
+  every.limit = -1;
+  EXPECT_EQ(store.list(every).size(), 1003u);
+  JobFilter lace;
+  lace.kind = "lace";
+  lace.limit = 3;
+  EXPECT_EQ(store.list(lace).size(), 3u);
+  EXPECT_EQ(store.count(lace), 201);
+  lace.state = JobState::failed;
+  EXPECT_EQ(store.count(lace), 0);
+}
+
 TEST_F(StoreTest, CountsIncludeEveryStateEvenZero) {
   Store store(db_path());
   auto empty = store.counts();
