@@ -1,4 +1,5 @@
 #include "convert/kinds.h"
+#include "convert/report_file.h"
 
 #include <algorithm>
 
@@ -102,6 +103,8 @@ std::string known_kinds_text() {
   for (const auto& k : known_kinds()) list += (list.empty() ? "" : ", ") + k;
   return list;
 }
+
+std::string_view report_file_name() { return "report.json"; }  // convert/report_file.h
 
 bool converts_job_file(const std::string& kind) {
   const KindInfo* k = find_kind(kind);

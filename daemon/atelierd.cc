@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   app.add_option("-c,--config", config_file, "configuration file")->capture_default_str();
   app.add_flag("-v,--verbose", verbose, "log debug messages");
   app.add_flag("--check-config", check, "validate the configuration and exit");
-  app.set_version_flag("--version", ATELIER_VERSION);
+  app.set_version_flag("--version", "atelierd " ATELIER_VERSION, "print \"atelierd VERSION\" and exit");
   CLI11_PARSE(app, argc, argv);
   atelier::log::set_verbose(verbose);
   atelier::log::init();  // native journal entries under systemd, plain stderr lines otherwise

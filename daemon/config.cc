@@ -125,6 +125,8 @@ Config from_table(const toml::table& root, const std::string& source) {
   if (const toml::table* store = top.get_table("store")) {
     TableReader r(*store, source, "store");
     c.store_path = r.get_string("path", c.store_path.string());
+    c.keep_days = static_cast<int>(r.get_int("keep_days", c.keep_days, 0, 36500));
+    c.keep_jobs = static_cast<int>(r.get_int("keep_jobs", c.keep_jobs, 0, 100000000));
     r.finish();
   }
   if (const toml::table* control = top.get_table("control")) {
@@ -188,6 +190,8 @@ Config from_table(const toml::table& root, const std::string& source) {
 }
 
 }  // namespace
+
+Config config_from_table(const toml::table& root, const std::string& source) { return from_table(root, source); }
 
 Config parse_config(const std::string& text, const std::string& source) {
   try {

@@ -63,6 +63,12 @@ struct Config {
   // image/mask paths in [parquetry] are made absolute against the config file's folder, since
   // the conversion reads them from its standard input.
   std::filesystem::path state_dir() const { return store_path.parent_path(); }
+  // Retention (daemon/retention.h): finished jobs (completed, failed, canceled) whose last
+  // change is more than keep_days days old are purged, rows and output folders, and at most
+  // keep_jobs of them are kept (the most recently finished); 0 turns either limit off.
+  // Checked at start-up, every hour and at once after a SIGHUP reload.
+  int keep_days = 30;
+  int keep_jobs = 500;
 
   // [control]
   std::filesystem::path socket_path = "/run/atelier/control.sock";
@@ -90,5 +96,8 @@ Config load_config(const std::filesystem::path& file);
 
 // Same from TOML text (tests); `source` names it in errors.
 Config parse_config(const std::string& text, const std::string& source);
+// Same from a parsed table (the test that checks config/atelierd.toml asks which of its tables
+// the readers looked at: ParamKeyLog in convert/common/param_table.h).
+Config config_from_table(const toml::table& root, const std::string& source);
 
 }  // namespace atelier

@@ -11,11 +11,15 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "base/error.h"
+#include "base/job_states.h"
 #include "convert/convert.h"
 #include "convert/kinds.h"
+#include "convert/report_file.h"
 #include "daemon/client_file.h"
 #include "daemon/job_json.h"
 #include "daemon/job_sets.h"
@@ -45,6 +49,46 @@ std::string shortened(const std::string& text) {
   return text.size() <= 80 ? text : text.substr(0, 80) + "...";
 }
 
+// `list` without a "limit": the newest this many jobs (the reply's "total" says how many match).
+constexpr int64_t kDefaultListLimit = 1000;
+
+// How long a command's answer waits for its effect to show in the job (a start turning the job
+// running, a cancel ending it). The control thread waits, so keep it short; a job that has not
+// moved on by then is answered with an "effect" saying what is under way.
+constexpr auto kEffectWait = std::chrono::milliseconds(1500);
+
+JobFilter list_filter(const nlohmann::json& args) {
+  JobFilter filter;
+  if (args.contains("state")) {
+    const std::string name = args["state"].is_string() ? args["state"].get<std::string>() : args["state"].dump();
+    auto s = state_from_name(name);
+    if (!s) throw ControlError("unknown state '" + shortened(name) + "'; job states: " + job_state_list_text());
+    filter.state = s;
+  }
+  if (args.contains("kind")) {
+    const std::string kind = args["kind"].is_string() ? args["kind"].get<std::string>() : args["kind"].dump();
+    if (!is_known_kind(kind))
+      throw ControlError("unknown kind '" + shortened(kind) + "'; this build converts: " + known_kinds_text());
+    filter.kind = kind;
+  }
+  filter.limit = kDefaultListLimit;
+  if (args.contains("limit")) {
+    if (!args["limit"].is_number_integer() || args["limit"].get<int64_t>() < 0)
+      throw ControlError("list needs a \"limit\" that is an integer >= 0 (0: every job)");
+    const int64_t limit = args["limit"].get<int64_t>();
+    filter.limit = limit == 0 ? -1 : limit;
+  }
+  return filter;
+}
+
+bool same_step(const Job& a, const Job& b) { return a.state == b.state && a.reason == b.reason; }
+
+// A canceled job that has not stopped yet, in the operator's words.
+std::string cancel_effect(const Job& job) {
+  return progress_unit(job) == "rows" ? "canceling (the machine stops after the row being knitted)"
+                                      : "canceling (stopping)";
+}
+
 }  // namespace
 
 Daemon::Daemon(fs::path config_file, Config initial)
@@ -71,7 +115,9 @@ Daemon::Daemon(fs::path config_file, Config initial)
   jobs_ = std::make_unique<JobService>(*store_, layout, [this](const JobChange& change) {
     job_log_.on_change(change);
     if (!control_) return;
-    nlohmann::json event = {{"job", job_to_json(change.job)},
+    // "at": when this change happened (a progress step does not touch the job's "updated").
+    nlohmann::json event = {{"at", iso8601_utc(now_ms())},
+                            {"job", job_to_json(change.job)},
                             {"from", change.from},
                             {"to", change.to},
                             {"reason", change.reason}};
@@ -79,6 +125,10 @@ Daemon::Daemon(fs::path config_file, Config initial)
     control_->publish(event);
   });
   jobs_->ensure_layout();
+  purge_ = std::make_unique<PurgeWorker>(*store_, layout, [this] {
+    auto c = config();
+    return RetentionPolicy{c->keep_days, c->keep_jobs};
+  });
   // Parquetry's wood library and stock of used wood (Config::state_dir()).
   fs::create_directories(c.state_dir() / "wood");
   fs::create_directories(c.state_dir() / "wood-stock");
@@ -132,6 +182,7 @@ Daemon::~Daemon() {
   // The control thread calls into everything else: stop it first (also when run() threw).
   if (control_) control_->stop();
   if (usb_monitor_) usb_monitor_->stop();
+  if (purge_) purge_->stop();
   for (auto& d : devices_) d->stop();
   if (scheduler_) scheduler_->stop();
   if (lock_fd_ >= 0) ::close(lock_fd_);
@@ -250,17 +301,10 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
   const nlohmann::json& args = request.args;
   if (verb == "status") return status();
   if (verb == "list") {
-    JobFilter filter;
-    if (args.contains("state")) {
-      auto s = state_from_name(args["state"].get<std::string>());
-      if (!s) throw ControlError("unknown state '" + args["state"].get<std::string>() + "'");
-      filter.state = s;
-    }
-    if (args.contains("kind")) filter.kind = args["kind"].get<std::string>();
-    if (args.contains("limit")) filter.limit = args["limit"].get<int>();
+    const JobFilter filter = list_filter(args);
     nlohmann::json out = nlohmann::json::array();
     for (const auto& job : store_->list(filter)) out.push_back(job_to_json(job));
-    return out;
+    return {{"jobs", out}, {"total", store_->count(filter)}};
   }
   if (verb == "show") {
     const int64_t id = job_id_arg(args);
@@ -278,30 +322,32 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
     }
     out["outputs"] = outputs;
     out["history"] = events_to_json(store_->history(id));
+    if (!job->output_dir.empty()) {
+      std::ifstream report(fs::path(job->output_dir) / report_file_name());
+      const auto parsed = nlohmann::json::parse(report, nullptr, false);
+      if (auto seconds = estimated_seconds(parsed)) out["estimated_s"] = *seconds;
+    }
+    if (job->state == JobState::running) {
+      if (Device* d = device_for(*job)) {
+        const nlohmann::json described = d->describe();
+        const nlohmann::json& on = described["job"];
+        if (on.is_object() && on.value("id", int64_t{0}) == id && on.contains("time_left_s"))
+          out["time_left_s"] = on["time_left_s"];
+      }
+    }
     return out;
   }
   if (verb == "submit") return submit(request);
   if (verb == "cancel") {
+    if (args.value("all", false)) return cancel_all();
     const int64_t id = job_id_arg(args);
     auto job = store_->get(id);
     if (!job) throw ControlError("no job " + std::to_string(id));
-    Device* device = device_for(*job);
-    if ((job->state == JobState::ready || job->state == JobState::running) && device &&
-        device->cancel(id)) {
-      // Ready: canceled at once. Running: the machine finishes its row, then gets the blank
-      // last line (the job turns canceled then).
-      return job_to_json(*store_->get(id));
-    }
-    if (!scheduler_->cancel(id))
-      throw ControlError("job " + std::to_string(id) + " is " + state_name(job->state) +
-                         "; only queued, converting, ready or running jobs can be canceled");
-    // A converting job reaches `canceled` when its converter has stopped (well under 1 s).
-    for (int i = 0; i < 50; ++i) {
-      job = store_->get(id);
-      if (job->state != JobState::converting) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return job_to_json(*job);
+    request_cancel(*job);
+    nlohmann::json out = after_command(*job, true);
+    if (auto now = store_->get(id); now && (now->state == JobState::converting || now->state == JobState::running))
+      out["effect"] = cancel_effect(*now);
+    return out;
   }
   if (verb == "retry") {
     const int64_t id = job_id_arg(args);
@@ -316,13 +362,23 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
   if (verb == "start" || verb == "resume" || verb == "hold" || verb == "frame") {
     const int64_t id = job_id_arg(args);
     Device& device = device_of_job(id);
+    const std::string name = device.config().name;
+    const Job before = *store_->get(id);
+    const std::string tag = std::to_string(id);
+    std::string effect;  // what the command set under way, for an answer before it shows
+    bool wait = true;
     try {
       if (verb == "start") {
         device.start(id);
+        effect = "armed (runs on " + name + " as soon as it is free)";
       } else if (verb == "hold") {
         device.hold(id);
+        effect = "held (feed hold: motion stopped, beam off; `atelierctl resume " + tag + "` continues)";
+        wait = false;  // a hold leaves the job running with its reason
       } else if (verb == "frame") {
         device.frame(id);
+        effect = "framing on " + name + " with the beam off (`atelierctl devices` shows the outcome under LAST)";
+        wait = false;  // the job stays ready; the outcome is the device's
       } else {
         int from_row = 0;  // none: a laser's feed hold is released
         if (args.contains("from_row")) {
@@ -331,11 +387,15 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
           from_row = args["from_row"].get<int>();
         }
         device.resume(id, from_row);
+        effect = from_row > 0 ? "resuming from row " + std::to_string(from_row) + " (runs on " + name +
+                                    " as soon as it is free)"
+                              : "resumed";
+        wait = from_row > 0;  // a laser continues at once; its job stays running
       }
     } catch (const std::runtime_error& e) {
       throw ControlError(e.what());
     }
-    return job_to_json(*store_->get(id));
+    return after_command(before, wait, effect);
   }
   if (verb == "devices") return devices_json();
   if (verb == "wood") return wood(request);
@@ -382,6 +442,76 @@ nlohmann::json Daemon::wood(ControlRequest& request) {
   }
 }
 
+void Daemon::request_cancel(const Job& job) {
+  const int64_t id = job.id;
+  Device* device = device_for(job);
+  // Ready: canceled at once. Running: the machine finishes its row (knitting) or stops at once
+  // (laser: feed hold, soft reset), then the job turns canceled.
+  if ((job.state == JobState::ready || job.state == JobState::running) && device && device->cancel(id))
+    return;
+  // Queued or converting: a converter is killed, which takes well under a second.
+  if (!scheduler_->cancel(id))
+    throw ControlError("job " + std::to_string(id) + " is " + state_name(job.state) +
+                       "; only queued, converting, ready or running jobs can be canceled");
+}
+
+nlohmann::json Daemon::after_command(const Job& before, bool wait, const std::string& effect) {
+  const int64_t id = before.id;
+  std::optional<Job> job = store_->get(id);
+  if (!job) throw ControlError("no job " + std::to_string(id));
+  const auto until = std::chrono::steady_clock::now() + kEffectWait;
+  while (wait && same_step(*job, before) && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    job = store_->get(id);
+  }
+  nlohmann::json out = job_to_json(*job);
+  if (!effect.empty() && (!wait || same_step(*job, before))) out["effect"] = effect;
+  return out;
+}
+
+nlohmann::json Daemon::cancel_all() {
+  // Queued and ready jobs first, so none of them starts while the others are being stopped.
+  std::vector<Job> targets;
+  for (JobState s : {JobState::queued, JobState::ready, JobState::converting, JobState::running}) {
+    JobFilter filter;
+    filter.state = s;
+    filter.limit = -1;
+    for (Job& job : store_->list(filter)) targets.push_back(std::move(job));
+  }
+  std::vector<Job> asked;
+  for (const Job& job : targets) {
+    auto now = store_->get(job.id);
+    if (!now || (now->state != JobState::queued && now->state != JobState::ready &&
+                 now->state != JobState::converting && now->state != JobState::running))
+      continue;  // finished meanwhile
+    try {
+      request_cancel(*now);
+      asked.push_back(*now);
+    } catch (const ControlError&) {
+      // Finished between the look and the cancel: nothing left to cancel.
+    }
+  }
+  nlohmann::json jobs = nlohmann::json::array();
+  int64_t stopping = 0;
+  const auto until = std::chrono::steady_clock::now() + kEffectWait;
+  for (const Job& job : asked) {
+    auto now = store_->get(job.id);
+    while (now && (now->state == JobState::converting || now->state == JobState::running) &&
+           std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      now = store_->get(job.id);
+    }
+    if (!now) continue;
+    nlohmann::json j = job_to_json(*now);
+    if (now->state == JobState::converting || now->state == JobState::running) {
+      j["effect"] = cancel_effect(*now);
+      ++stopping;
+    }
+    jobs.push_back(j);
+  }
+  return {{"jobs", jobs}, {"canceled", static_cast<int64_t>(asked.size())}, {"stopping", stopping}};
+}
+
 void Daemon::reload() {
   try {
     Config fresh = load_config(config_file_);
@@ -396,6 +526,7 @@ void Daemon::reload() {
       config_ = std::make_shared<const Config>(std::move(fresh));
     }
     log::info("reloaded " + config_file_.string());
+    purge_->wake();  // retention ([store] keep_days, keep_jobs) as now configured
   } catch (const std::exception& e) {
     log::error("reload failed, keeping the running configuration: " + std::string(e.what()));
   }
@@ -411,6 +542,7 @@ int Daemon::run() {
   hot_folder_ = std::make_unique<HotFolder>(jobs_->layout(), cfg->watch, cfg->settle_ms);
   pickup_ = std::make_unique<Pickup>(*hot_folder_, *jobs_, [this](int64_t id) { scheduler_->enqueue(id); });
   for (int64_t id : jobs_->recover()) scheduler_->enqueue(id);
+  purge_->start();  // old finished jobs go now and every hour (only finished ones: not these)
   scheduler_->start(cfg->workers);
   for (auto& d : devices_) static_cast<DeviceWorker&>(*d).start_worker();
   if (std::any_of(devices_.begin(), devices_.end(), [](const auto& d) { return !d->config().usb.empty(); })) {
@@ -419,6 +551,9 @@ int Daemon::run() {
     });
     try {
       usb_monitor_->start();
+      log::info(usb_monitor_->mode() == UsbHotplugMonitor::Mode::hotplug
+                    ? "USB devices: libusb hotplug events"
+                    : "USB devices: polled (libusb offers no hotplug here)");
     } catch (const std::exception& e) {
       log::warning(std::string("USB hotplug unavailable, devices are polled: ") + e.what());
       usb_monitor_.reset();
@@ -474,6 +609,7 @@ int Daemon::run() {
   log::info("stopping: no new jobs; conversions in progress are re-queued");
   pickup_.reset();
   hot_folder_.reset();
+  purge_->stop();
   if (usb_monitor_) usb_monitor_->stop();
   scheduler_->stop();
   for (auto& d : devices_) d->stop();  // a job being knitted ends interrupted, never resumed alone

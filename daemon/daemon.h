@@ -20,6 +20,7 @@
 #include "daemon/job_log.h"
 #include "daemon/job_service.h"
 #include "daemon/pickup.h"
+#include "daemon/purge.h"
 #include "daemon/scheduler.h"
 #include "daemon/store.h"
 #include "drivers/usb_hotplug.h"
@@ -48,6 +49,15 @@ class Daemon {
   nlohmann::json devices_json() const;
   Device* device_for(const Job& job) const;
   Device& device_of_job(int64_t id);
+  // `cancel ID`: asks the job's device or the scheduler to stop it; throws ControlError when
+  // the job is finished.
+  void request_cancel(const Job& job);
+  // `cancel --all`: every queued, converting, ready and running job.
+  nlohmann::json cancel_all();
+  // The answer to a command on job `before.id`: the job as it is now, after waiting (`wait`,
+  // briefly) for its state or reason to move on; `effect` (what the command set under way)
+  // is added when the job does not show it yet.
+  nlohmann::json after_command(const Job& before, bool wait, const std::string& effect = "");
   void reload();
   void notify_status();
   std::shared_ptr<const Config> config() const;
@@ -62,6 +72,7 @@ class Daemon {
   JobLog job_log_;  // every job change, as a record with the job's fields (job_log.h)
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<JobService> jobs_;
+  std::unique_ptr<PurgeWorker> purge_;  // retention: at start-up, then hourly
   std::unique_ptr<SubprocessRunner> runner_;
   std::unique_ptr<Scheduler> scheduler_;
   std::unique_ptr<HotFolder> hot_folder_;

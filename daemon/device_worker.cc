@@ -1,6 +1,7 @@
 #include "daemon/device_worker.h"
 
 #include "base/error.h"
+#include "daemon/job_json.h"
 #include "daemon/job_log.h"
 #include "daemon/log.h"
 
@@ -44,7 +45,7 @@ nlohmann::json DeviceWorker::describe() const {
     job = {{"id", *current_}};
     if (auto j = jobs_.store().get(*current_)) {
       job["name"] = j->name;
-      job["progress"] = {{"done", j->progress_done}, {"total", j->progress_total}};
+      job["progress"] = job_to_json(*j)["progress"];  // with its unit: rows, lines
     }
   }
   nlohmann::json out = {

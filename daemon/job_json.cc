@@ -2,6 +2,8 @@
 
 #include <ctime>
 
+#include "convert/kinds.h"
+
 namespace atelier {
 
 std::string iso8601_utc(int64_t ms) {
@@ -15,6 +17,25 @@ std::string iso8601_utc(int64_t ms) {
   return out;
 }
 
+std::string progress_unit(const Job& job) {
+  // A conversion counts percent; from then on the machine's own steps (a job that no device
+  // ran only ever counted its conversion).
+  if (job.device.empty() || job.state == JobState::queued || job.state == JobState::converting)
+    return "percent";
+  const KindInfo* kind = find_kind(job.kind);
+  switch (kind ? kind->machine_input : MachineInput::none) {
+    case MachineInput::knit_pattern:
+    case MachineInput::lace_chart:
+      return "rows";
+    case MachineInput::gcode:
+      return "lines";
+    case MachineInput::stitch_files:
+    case MachineInput::none:
+      break;
+  }
+  return "percent";
+}
+
 nlohmann::json job_to_json(const Job& job) {
   return {{"id", job.id},
           {"kind", job.kind},
@@ -25,7 +46,22 @@ nlohmann::json job_to_json(const Job& job) {
           {"created", iso8601_utc(job.created_ms)},
           {"updated", iso8601_utc(job.updated_ms)},
           {"output_dir", job.output_dir},
-          {"progress", {{"done", job.progress_done}, {"total", job.progress_total}}}};
+          {"progress",
+           {{"done", job.progress_done}, {"total", job.progress_total}, {"unit", progress_unit(job)}}}};
+}
+
+std::optional<double> estimated_seconds(const nlohmann::json& report) {
+  if (!report.is_object()) return std::nullopt;
+  auto read = [](const nlohmann::json& o) -> std::optional<double> {
+    auto it = o.find("estimated_time_s");
+    if (it == o.end() || !it->is_number()) return std::nullopt;
+    return it->get<double>();
+  };
+  if (auto s = read(report)) return s;
+  for (const auto& [key, value] : report.items())
+    if (value.is_object())
+      if (auto s = read(value)) return s;
+  return std::nullopt;
 }
 
 nlohmann::json events_to_json(const std::vector<JobEvent>& events) {

@@ -1,7 +1,9 @@
-// JSON views of jobs for the control protocol (docs/control-protocol.md). Pure.
+// JSON views of jobs for the control protocol (docs/control-protocol.md). Pure; any thread.
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "daemon/store.h"
@@ -11,8 +13,18 @@ namespace atelier {
 // "2026-11-22T11:31:50.123Z" from milliseconds since the epoch.
 std::string iso8601_utc(int64_t ms);
 
-// id, kind, name, state, reason, device, created, updated, output_dir, progress.
+// What a job's progress counts: "percent" while it converts (and for a job no device ran),
+// then the machine's steps: "rows" knitted or "lines" of G-code acknowledged.
+std::string progress_unit(const Job& job);
+
+// id, kind, name, state, reason, device, created, updated, output_dir,
+// progress {done, total, unit}.
 nlohmann::json job_to_json(const Job& job);
+
+// The converter's time estimate in seconds from a job's report.json: its "estimated_time_s",
+// at the top (cut) or in one of its sections ("laser" for parquetry, "engrave" for sketch);
+// nullopt when the report has none (a job no laser runs).
+std::optional<double> estimated_seconds(const nlohmann::json& report);
 
 nlohmann::json events_to_json(const std::vector<JobEvent>& events);
 

@@ -62,10 +62,15 @@ bool LaserDevice::cancel_running(int64_t job_id) {
 void LaserDevice::forget_requests() { frame_request_.reset(); }
 
 void LaserDevice::hold(int64_t job_id) {
-  std::lock_guard lock(mu_);
-  if (current_ != job_id || !controls_)
-    throw BadInput(job_tag(job_id) + " is not running on " + config_.name);
-  controls_->hold.store(true);
+  {
+    std::lock_guard lock(mu_);
+    if (current_ != job_id || !controls_)
+      throw BadInput(job_tag(job_id) + " is not running on " + config_.name);
+    controls_->hold.store(true);
+  }
+  // Shown by `devices` until the job moves on (progress reports keep it while held).
+  set_detail(job_tag(job_id) + ": held (feed hold, beam off); `atelierctl resume " + std::to_string(job_id) +
+             "` continues");
   log::info("feed hold asked by atelierctl hold", job_fields(jobs_.store(), job_id, config_.name));
 }
 
@@ -75,17 +80,25 @@ void LaserDevice::resume(int64_t job_id, int from_row) {
                              "`atelierctl resume " + std::to_string(job_id) +
                              "` (without --from-row) releases a feed hold, `atelierctl retry " +
                              std::to_string(job_id) + "` runs an interrupted job again from the start");
-  std::lock_guard lock(mu_);
-  if (current_ != job_id || !controls_ || (!paused_ && !controls_->hold.load()))
-    throw BadInput(job_tag(job_id) + " is neither held nor paused on " + config_.name);
-  // Both at once (a hold during a sheet swap): the session ends the program pause too, so
-  // the next sheet's M0 is seen and reported afresh.
-  if (paused_) {
-    controls_->release_pause.store(true);
-    paused_ = false;
+  {
+    std::lock_guard lock(mu_);
+    if (current_ != job_id || !controls_ || (!paused_ && !controls_->hold.load()))
+      throw BadInput(job_tag(job_id) + " is neither held nor paused on " + config_.name);
+    // Both at once (a hold during a sheet swap): the session ends the program pause too, so
+    // the next sheet's M0 is seen and reported afresh.
+    if (paused_) {
+      controls_->release_pause.store(true);
+      paused_ = false;
+    }
+    controls_->hold.store(false);
   }
-  controls_->hold.store(false);
+  set_detail(job_tag(job_id) + ": resumed");
   log::info("resume asked by atelierctl resume", job_fields(jobs_.store(), job_id, config_.name));
+}
+
+void LaserDevice::describe_more(nlohmann::json& out) const {
+  // The time left of the job being burned (not of a framing), from the last progress report.
+  if (out["job"].is_object() && !framing_ && seconds_left_ >= 0) out["job"]["time_left_s"] = std::lround(seconds_left_);
 }
 
 void LaserDevice::frame(int64_t job_id) {
@@ -216,6 +229,7 @@ void LaserDevice::run_job(int64_t id) {
   {
     std::lock_guard lock(mu_);
     paused_ = false;
+    seconds_left_ = -1;
   }
   set_state("busy", job_tag(id));
 
@@ -250,7 +264,11 @@ void LaserDevice::run_job(int64_t id) {
     if (p.acked != p.total && now - last_report < std::chrono::milliseconds(200)) return;
     last_report = now;
     const std::string what = line_count(p.acked, p.total) + ", " + duration_text(p.seconds_left) + " left";
-    set_detail(job_tag(id) + ": " + what);
+    {
+      std::lock_guard lock(mu_);
+      seconds_left_ = p.seconds_left;
+    }
+    if (!controls.hold.load()) set_detail(job_tag(id) + ": " + what);  // a hold stays shown
     try {
       jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
     } catch (const std::exception& e) {

@@ -55,6 +55,8 @@ class LaserDevice : public DeviceWorker {
 
  private:
   bool run_next() override;
+  // Adds the running job's "time_left_s" (seconds, from the last progress report) to "job".
+  void describe_more(nlohmann::json& out) const override;
   bool cancel_running(int64_t job_id) override;
   void abort_running() override;
   void forget_requests() override;
@@ -87,6 +89,7 @@ class LaserDevice : public DeviceWorker {
   std::optional<int64_t> frame_request_;
   bool framing_ = false;  // the job on the machine is being framed, not run
   bool paused_ = false;   // the job on the machine waits at a program pause (M0)
+  double seconds_left_ = -1;  // the running job's estimate at its last progress report; -1: none yet
 };
 
 }  // namespace atelier

@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
+
 #include "daemon/store_schema.h"
 
 namespace atelier {
@@ -368,25 +370,40 @@ std::optional<Job> Store::get(int64_t id) {
   return read_job(db_, s);
 }
 
-std::vector<Job> Store::list(const JobFilter& filter) {
-  std::lock_guard lock(mu_);
-  // The SQL text varies only by which constant clauses are present; values are bound.
-  std::string sql = std::string("SELECT ") + kJobColumns + " FROM jobs";
-  if (filter.state && filter.kind) {
-    sql += " WHERE state = ?1 AND kind = ?2";
-  } else if (filter.state) {
-    sql += " WHERE state = ?1";
-  } else if (filter.kind) {
-    sql += " WHERE kind = ?2";
-  }
-  sql += " ORDER BY id DESC LIMIT ?3";
-  Stmt s(db_, sql);
+namespace {
+
+// " WHERE ..." for a filter's state (?1) and kind (?2); the SQL text varies only by which
+// constant clauses are present, values are bound.
+std::string filter_clause(const JobFilter& filter) {
+  if (filter.state && filter.kind) return " WHERE state = ?1 AND kind = ?2";
+  if (filter.state) return " WHERE state = ?1";
+  if (filter.kind) return " WHERE kind = ?2";
+  return "";
+}
+
+void bind_filter(Stmt& s, const JobFilter& filter) {
   if (filter.state) s.bind(1, state_name(*filter.state));
   if (filter.kind) s.bind(2, *filter.kind);
-  s.bind(3, static_cast<int64_t>(filter.limit));
+}
+
+}  // namespace
+
+std::vector<Job> Store::list(const JobFilter& filter) {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, std::string("SELECT ") + kJobColumns + " FROM jobs" + filter_clause(filter) +
+                  " ORDER BY id DESC LIMIT ?3");
+  bind_filter(s, filter);
+  s.bind(3, filter.limit < 0 ? int64_t{-1} : filter.limit);  // SQLite: LIMIT -1 is no limit
   std::vector<Job> jobs;
   while (s.step()) jobs.push_back(read_job(db_, s));
   return jobs;
+}
+
+int64_t Store::count(const JobFilter& filter) {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "SELECT COUNT(*) FROM jobs" + filter_clause(filter));
+  bind_filter(s, filter);
+  return s.step() ? s.integer(0) : 0;
 }
 
 std::vector<JobEvent> Store::history(int64_t id) {
@@ -419,6 +436,66 @@ std::map<JobState, int64_t> Store::counts() {
   Stmt s(db_, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
   while (s.step()) result[parse_state(db_, s.text(0), "a job row")] = s.integer(1);
   return result;
+}
+
+// Retention. The finished states as an SQL list of literals: the code's own state names.
+namespace {
+std::string finished_states_sql() {
+  std::string list;
+  for (JobState s : {JobState::queued, JobState::converting, JobState::ready, JobState::running,
+                     JobState::completed, JobState::failed, JobState::canceled, JobState::interrupted})
+    if (is_finished(s)) list += (list.empty() ? "'" : ", '") + state_name(s) + "'";
+  return "(" + list + ")";
+}
+}  // namespace
+
+std::vector<FinishedJob> Store::finished_jobs() {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "SELECT id, updated_ms FROM jobs WHERE state IN " + finished_states_sql() + " ORDER BY id");
+  std::vector<FinishedJob> out;
+  while (s.step()) out.push_back({s.integer(0), s.integer(1)});
+  return out;
+}
+
+std::vector<int64_t> Store::purge(const std::vector<int64_t>& ids) {
+  std::lock_guard lock(mu_);
+  Transaction tx(db_);
+  std::vector<int64_t> deleted;
+  const std::string finished = finished_states_sql();
+  for (int64_t id : ids) {
+    std::string output_dir;
+    {
+      // Checked again here, under the write lock: a job retried since it was chosen stays.
+      Stmt s(db_, "SELECT output_dir FROM jobs WHERE id = ?1 AND state IN " + finished);
+      s.bind(1, id);
+      if (!s.step()) continue;
+      output_dir = s.text(0);
+    }
+    if (!output_dir.empty()) {
+      Stmt s(db_, "INSERT OR REPLACE INTO purged_folders (job_id, path) VALUES (?1, ?2)");
+      s.bind(1, id).bind(2, output_dir);
+      s.run();
+    }
+    Stmt(db_, "DELETE FROM events WHERE job_id = ?1").bind(1, id).run();
+    Stmt(db_, "DELETE FROM jobs WHERE id = ?1").bind(1, id).run();
+    deleted.push_back(id);
+  }
+  tx.commit();
+  std::sort(deleted.begin(), deleted.end());
+  return deleted;
+}
+
+std::vector<PurgedFolder> Store::purged_folders() {
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "SELECT job_id, path FROM purged_folders ORDER BY job_id");
+  std::vector<PurgedFolder> out;
+  while (s.step()) out.push_back({s.integer(0), s.text(1)});
+  return out;
+}
+
+void Store::forget_purged_folder(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  Stmt(db_, "DELETE FROM purged_folders WHERE job_id = ?1").bind(1, job_id).run();
 }
 
 }  // namespace atelier

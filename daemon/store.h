@@ -25,6 +25,7 @@ class StoreError : public InternalError {
   using InternalError::InternalError;
 };
 
+// In the order of base/job_states.h (kJobStateNames), which names them.
 enum class JobState { queued, converting, ready, running, completed, failed, canceled, interrupted };
 
 std::string state_name(JobState s);                       // "queued", ...
@@ -34,6 +35,10 @@ std::optional<JobState> state_from_name(const std::string& name);
 // ready->running|completed|canceled; running->completed|failed|canceled|interrupted;
 // failed|interrupted|canceled->queued (retry); interrupted->running (resume).
 bool transition_allowed(JobState from, JobState to);
+// Completed, failed or canceled: nothing more happens to the job unless an operator retries
+// it, so retention ([store] keep_days, keep_jobs) may purge it. Interrupted is not finished
+// (a knitting job waits there to be resumed from a row), nor is any state before.
+bool is_finished(JobState s);
 
 struct Job {
   int64_t id = 0;
@@ -59,10 +64,22 @@ struct JobEvent {
   std::string reason;
 };
 
+// A finished job as retention sees it (daemon/retention.h).
+struct FinishedJob {
+  int64_t id = 0;
+  int64_t finished_ms = 0;  // its last change (updated_ms): when it finished
+};
+
+// The output folder of a purged job, still to be removed from the spool.
+struct PurgedFolder {
+  int64_t job_id = 0;
+  std::string path;  // as recorded in the job's output_dir
+};
+
 struct JobFilter {
   std::optional<JobState> state;
   std::optional<std::string> kind;
-  int limit = 1000;  // newest first
+  int64_t limit = 1000;  // the newest `limit` jobs; negative: every job (count() ignores it)
 };
 
 class Store {
@@ -99,8 +116,20 @@ class Store {
 
   std::optional<Job> get(int64_t id);
   std::vector<Job> list(const JobFilter& filter);     // newest first (id descending)
+  int64_t count(const JobFilter& filter);             // jobs matching state and kind, any limit
   std::vector<JobEvent> history(int64_t id);          // oldest first
   std::map<JobState, int64_t> counts();               // every state, zero included
+
+  // Retention (daemon/retention.h chooses the jobs, daemon/purge.h removes their folders).
+  // Every finished job (is_finished), in id order.
+  std::vector<FinishedJob> finished_jobs();
+  // One transaction: deletes each job of `ids` that is still finished (an unfinished or
+  // unknown one is skipped), its events with it, and records its output folder (if it has
+  // one) in purged_folders. Returns the ids deleted, ascending.
+  std::vector<int64_t> purge(const std::vector<int64_t>& ids);
+  // The folders purge() recorded and forget_purged_folder() has not yet dropped, by job id.
+  std::vector<PurgedFolder> purged_folders();
+  void forget_purged_folder(int64_t job_id);
 
  private:
   void exec(const char* sql);

@@ -1,30 +1,22 @@
 // Job state names, the state machine's allowed edges, and the clock (declared in store.h).
 #include <chrono>
 
+#include "base/job_states.h"
 #include "daemon/store.h"
 
 namespace atelier {
 
+static_assert(kJobStateNames.size() == static_cast<size_t>(JobState::interrupted) + 1,
+              "base/job_states.h lists every JobState, in the enum's order");
+
 std::string state_name(JobState s) {
-  switch (s) {
-    case JobState::queued: return "queued";
-    case JobState::converting: return "converting";
-    case JobState::ready: return "ready";
-    case JobState::running: return "running";
-    case JobState::completed: return "completed";
-    case JobState::failed: return "failed";
-    case JobState::canceled: return "canceled";
-    case JobState::interrupted: return "interrupted";
-  }
-  return "unknown";
+  const auto i = static_cast<size_t>(s);
+  return i < kJobStateNames.size() ? std::string(kJobStateNames[i]) : "unknown";
 }
 
 std::optional<JobState> state_from_name(const std::string& name) {
-  for (JobState s : {JobState::queued, JobState::converting, JobState::ready, JobState::running,
-                     JobState::completed, JobState::failed, JobState::canceled,
-                     JobState::interrupted}) {
-    if (state_name(s) == name) return s;
-  }
+  for (size_t i = 0; i < kJobStateNames.size(); ++i)
+    if (kJobStateNames[i] == name) return static_cast<JobState>(i);
   return std::nullopt;
 }
 
@@ -45,6 +37,10 @@ bool transition_allowed(JobState from, JobState to) {
     case S::completed: return false;
   }
   return false;
+}
+
+bool is_finished(JobState s) {
+  return s == JobState::completed || s == JobState::failed || s == JobState::canceled;
 }
 
 int64_t now_ms() {

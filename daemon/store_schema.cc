@@ -46,12 +46,23 @@ CREATE INDEX jobs_by_state ON jobs(state);
 CREATE INDEX jobs_by_kind ON jobs(kind);
 )sql";
 
+// Version 3: retention ([store] keep_days, keep_jobs). A purged job's output folder is written
+// here in the transaction that deletes its rows, and the entry is dropped once the folder is
+// gone from the spool: a crash in between leaves it, and the next purge removes the folder.
+constexpr const char* kV3 = R"sql(
+CREATE TABLE purged_folders (
+  job_id INTEGER PRIMARY KEY,
+  path   TEXT    NOT NULL
+);
+)sql";
+
 }  // namespace
 
 const std::vector<SchemaMigration>& schema_migrations() {
   static const std::vector<SchemaMigration> steps = {
       {1, "jobs, events and id_sequence tables", kV1},
       {2, "indexes on jobs(state) and jobs(kind)", kV2},
+      {3, "purged_folders: output folders of purged jobs still to remove", kV3},
   };
   return steps;
 }

@@ -31,6 +31,9 @@
 //   atelier-convert pencil-profile --reference GRADE OUT.toml [--scan-png SCAN.png]
 //       learn a pencil profile from a scan of pencil lines running vertically on white paper, or
 //       from the modelled reference scan of a shipped grade (tools/make-pencil-profiles)
+//   atelier-convert --list-kinds
+//       prints the kinds this build converts, one a line (the registry, convert/kinds.h), for
+//       atelierctl's shell completion (tools/completion/atelierctl)
 //   atelier-convert --job-kind FILE
 //       prints the kind a job file names (the daemon asks this in a child: untrusted TOML is
 //       never parsed inside atelierd; convert/job_file_kind.h)
@@ -136,6 +139,10 @@ int main(int argc, char** argv) {
   // Not job kinds: commands with their own options (and --help).
   if (argc >= 2 && std::string(argv[1]) == "line") return atelier::convert_tool::run_line(argc - 1, argv + 1);
   if (argc >= 2 && std::string(argv[1]) == "pencil-profile") return atelier::convert_tool::run_pencil_profile(argc - 1, argv + 1);
+  if (argc == 2 && std::string(argv[1]) == "--list-kinds") {
+    for (const std::string& k : atelier::known_kinds()) std::cout << k << "\n";
+    return 0;
+  }
   if (argc == 3 && std::string(argv[1]) == "--job-kind") {
     const auto found = atelier::read_job_file_kind(argv[2], fs::path(argv[2]).filename().string());
     if (!found.problem.empty()) {
@@ -187,6 +194,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-file-bytes", limits.max_file_bytes, "largest input file in bytes");
   app.add_option("--max-pixels", limits.max_pixels, "largest input image in pixels");
+  app.set_version_flag("--version", "atelier-convert " ATELIER_VERSION, "print \"atelier-convert VERSION\" and exit");
   bool check_only = false;
   app.add_flag("--check", check_only,
                "only parse and check --params and --set (INPUT and OUTPUT_DIR are not read; give -)");

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
   app.add_option("--boot-ms", boot_ms, "input ignored this long after the port is opened")->check(CLI::NonNegativeNumber);
   app.add_option("--fault", fault_specs, "fault to inject (repeatable); see the list below");
   app.add_flag("--verbose", verbose, "log protocol traffic to stderr");
+  app.set_version_flag("--version", "atelier-knit-emu " ATELIER_VERSION, "print \"atelier-knit-emu VERSION\" and exit");
   app.footer(
       "Faults (--fault SPEC, repeatable):\n"
       "  drop-after-row=N[:M]  unplug after row N (rows counted from 1 over the emulator's life),\n"

@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
   app.add_option("--work-area", work_area, "WxH in mm: soft limits $130/$131 (default 400x400)");
   app.add_option("--fault", fault_specs, "fault to inject (repeatable); see below");
   app.add_option("--replug-ms", replug_ms, "after a drop fault, replug after MS ms")->check(CLI::NonNegativeNumber);
+  app.set_version_flag("--version", "atelier-laser-emu " ATELIER_VERSION, "print \"atelier-laser-emu VERSION\" and exit");
   app.add_option("--baud", baud, "serial rate that paces every byte (default 115200)")->check(CLI::PositiveNumber);
   app.footer(
       "Behaves like GRBL 1.1h with laser mode on ($32=1, $30=1000, soft limits $20=1 over the work\n"

@@ -3,18 +3,22 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "base/job_states.h"
 #include "tools/ctl_client.h"
 #include "tools/ctl_format.h"
 
@@ -69,6 +73,25 @@ std::string render_job_or_value(const json& result) {
   return atelier::ctl::format_value(result);
 }
 
+// A usage error found after parsing (an unknown --state): message, exit 2.
+struct UsageError {
+  std::string message;
+};
+
+// The first word that is neither an option nor an option's value: the verb, or "" if none.
+std::string verb_word(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--socket") {
+      ++i;  // its value
+      continue;
+    }
+    if (!a.empty() && a[0] == '-') continue;
+    return a;
+  }
+  return "";
+}
+
 std::string absolute_path(const std::string& file) {
   // The daemon resolves nothing against our working directory: send where the file really is.
   return std::filesystem::canonical(file).string();
@@ -94,32 +117,61 @@ bool response_ok(const json& response) {
   return response.contains("ok") && response["ok"].is_boolean() && response["ok"].get<bool>();
 }
 
-// Follows state changes until interrupted (exit 0) or the daemon goes away (exit 3).
-int run_watch(ControlClient& client) {
-  client.send(json{{"verb", "watch"}, {"args", json::object()}});
-  auto first = client.receive(ControlClient::kDefaultTimeout);
-  if (!first) {
-    throw atelier::ctl::UnreachableError(
-        "the daemon at " + client.socket_path() + " closed the connection without answering", 0);
-  }
-  if (!response_ok(*first)) return print_failure(*first);
+// Follows state changes until interrupted (exit 0). When the daemon goes away (a restart),
+// says so on stderr and connects again, waiting 0.5 s, 1 s, 2 s, ... up to 5 s between
+// attempts, and says when it is back. A daemon unreachable at the start ends it at once
+// (UnreachableError: exit 3), as for every verb.
+int run_watch(const std::string& socket) {
   // Ctrl-C is how a watch ends: leave quietly with success (every line is already flushed).
   struct sigaction quit {};
   quit.sa_handler = [](int) { _exit(kExitOk); };
   sigemptyset(&quit.sa_mask);
   sigaction(SIGINT, &quit, nullptr);
   sigaction(SIGTERM, &quit, nullptr);
+  bool connected_once = false;
+  bool reconnecting = false;
+  auto backoff = std::chrono::milliseconds(500);
   for (;;) {
-    auto message = client.receive(std::nullopt);
-    if (!message) {
-      throw atelier::ctl::UnreachableError(
-          "the daemon at " + client.socket_path() + " closed the connection", 0);
+    std::string gone;  // why the stream ended, for the "daemon gone" line
+    try {
+      ControlClient client(socket);
+      client.send(json{{"verb", "watch"}, {"args", json::object()}});
+      auto first = client.receive(ControlClient::kDefaultTimeout);
+      if (!first) {
+        throw atelier::ctl::UnreachableError(
+            "the daemon at " + socket + " closed the connection without answering", 0);
+      }
+      if (!response_ok(*first)) return print_failure(*first);
+      if (reconnecting) std::cerr << "atelierctl: reconnected to " << socket << "\n";
+      connected_once = true;
+      reconnecting = false;
+      backoff = std::chrono::milliseconds(500);
+      for (;;) {
+        auto message = client.receive(std::nullopt);
+        if (!message) {
+          gone = "the daemon at " + socket + " closed the connection";
+          break;
+        }
+        if (message->contains("event")) {
+          std::cout << atelier::ctl::format_event((*message)["event"]) << std::flush;
+        } else if (message->contains("ok") && !response_ok(*message)) {
+          gone = message->value("error", "");  // the daemon ended the watch, saying why
+        }
+      }
+    } catch (const atelier::ctl::UnreachableError& e) {
+      if (!connected_once) throw;
+      gone = e.what();
+    } catch (const atelier::ctl::ProtocolError& e) {
+      if (!connected_once) throw;
+      gone = e.what();
     }
-    if (message->contains("event")) {
-      std::cout << atelier::ctl::format_event((*message)["event"]) << std::flush;
-    } else if (message->contains("ok") && !response_ok(*message)) {
-      return print_failure(*message);
+    if (!reconnecting) {
+      std::cerr << "atelierctl: daemon gone, reconnecting..." << (gone.empty() ? "" : " (" + gone + ")")
+                << "\n";
+      reconnecting = true;
     }
+    std::this_thread::sleep_for(backoff);
+    backoff = std::min<std::chrono::milliseconds>(backoff * 2, std::chrono::seconds(5));
   }
 }
 
@@ -133,11 +185,14 @@ int main(int argc, char** argv) {
   app.add_option("--socket", socket,
                  "control socket (default: $ATELIER_SOCKET, else /run/atelier/control.sock)")
       ->type_name("PATH");
+  app.set_version_flag("--version", "atelierctl " ATELIER_VERSION, "print \"atelierctl VERSION\" and exit");
 
   Command cmd;
   std::int64_t id = 0;
   std::int64_t from_row = 0;
   std::string state, kind, file, wood_id;
+  std::int64_t limit = 0;
+  bool all = false;
   std::vector<std::string> sets;
 
   auto add_id = [&](CLI::App* sub) {
@@ -154,9 +209,13 @@ int main(int argc, char** argv) {
   };
 
   auto* status = app.add_subcommand("status", "daemon, devices, queue counts");
-  auto* list = app.add_subcommand("list", "jobs, newest first");
-  list->add_option("--state", state, "only jobs in this state");
-  list->add_option("--kind", kind, "only jobs of this kind");
+  auto* list = app.add_subcommand("list", "jobs, newest first (the 1000 newest unless --limit or --all)");
+  list->add_option("--state", state, "only jobs in this state (" + atelier::job_state_list_text() + ")");
+  list->add_option("--kind", kind, "only jobs of this kind (one the daemon converts)");
+  auto* limit_option = list->add_option("--limit", limit, "the N newest jobs (default 1000)")
+                           ->type_name("N")
+                           ->check(integer_at_least(1));
+  list->add_flag("--all", all, "every job")->excludes(limit_option);
   add_json(list);
   auto* show = app.add_subcommand("show", "one job, its outputs and history");
   add_id(show);
@@ -167,8 +226,9 @@ int main(int argc, char** argv) {
   add_sets(submit);
   auto* start = app.add_subcommand("start", "arm a ready job (laser)");
   add_id(start);
-  auto* cancel = app.add_subcommand("cancel", "cancel a job");
-  add_id(cancel);
+  auto* cancel = app.add_subcommand("cancel", "cancel a job, or with --all every unfinished job");
+  auto* cancel_id = cancel->add_option("ID", id, "job id")->check(integer_at_least(1));
+  cancel->add_flag("--all", all, "every queued, converting, ready and running job")->excludes(cancel_id);
   auto* retry = app.add_subcommand("retry", "re-queue a failed, interrupted or canceled job");
   add_id(retry);
   auto* resume = app.add_subcommand(
@@ -208,8 +268,23 @@ int main(int argc, char** argv) {
   wood_reset->add_option("--job", wood_job, "only the pieces of this job")->check(integer_at_least(1));
   add_json(wood_reset);
 
+  // CLI11 calls an unknown verb an unexpected argument: name it as what it is.
+  if (const std::string verb = verb_word(argc, argv); !verb.empty()) {
+    std::string verbs;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || sub->get_name() == verb;
+      verbs += (verbs.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "atelierctl: unknown verb '" << verb << "' (verbs: " << verbs
+                << "); see atelierctl --help\n";
+      return kExitUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
+    if (cancel->parsed() && id == 0 && !all) throw CLI::ValidationError("cancel", "needs a job ID or --all");
   } catch (const CLI::ParseError& e) {
     int rc = app.exit(e);  // prints help (rc 0) or the error with a usage hint
     return rc == 0 ? kExitOk : kExitUsage;
@@ -221,8 +296,14 @@ int main(int argc, char** argv) {
       cmd.render = atelier::ctl::format_status;
     } else if (list->parsed()) {
       cmd.verb = "list";
-      if (!state.empty()) cmd.args["state"] = state;
-      if (!kind.empty()) cmd.args["kind"] = kind;
+      if (!state.empty()) {
+        if (std::find(atelier::kJobStateNames.begin(), atelier::kJobStateNames.end(), state) ==
+            atelier::kJobStateNames.end())
+          throw UsageError{"--state " + state + ": unknown state; job states: " + atelier::job_state_list_text()};
+        cmd.args["state"] = state;
+      }
+      if (!kind.empty()) cmd.args["kind"] = kind;  // checked against the daemon's kinds below
+      cmd.args["limit"] = all ? 0 : limit > 0 ? limit : 1000;
       cmd.render = atelier::ctl::format_job_table;
     } else if (show->parsed()) {
       cmd = Command{"show", {{"id", id}}, cmd.json_output, atelier::ctl::format_job_details};
@@ -230,6 +311,8 @@ int main(int argc, char** argv) {
       const std::string path = absolute_path(file);
       cmd = Command{"submit", {{"path", path}, {"kind", kind}, {"set", sets}}, false,
                     render_job_or_value, {path}};
+    } else if (cancel->parsed() && all) {
+      cmd = Command{"cancel", {{"all", true}}, false, atelier::ctl::format_cancel_all};
     } else if (start->parsed() || cancel->parsed() || retry->parsed() || frame->parsed() ||
                hold->parsed()) {
       std::string verb = start->parsed()    ? "start"
@@ -270,6 +353,9 @@ int main(int argc, char** argv) {
   } catch (const std::filesystem::filesystem_error& e) {
     std::cerr << "atelierctl: cannot resolve " << file << ": " << e.code().message() << "\n";
     return kExitUsage;
+  } catch (const UsageError& e) {
+    std::cerr << "atelierctl: " << e.message << "\n";
+    return kExitUsage;
   }
 
   // The daemon reads these with our rights, not its own: we open them and pass the descriptors.
@@ -288,11 +374,29 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (watch->parsed()) return run_watch(socket);
     ControlClient client(socket);
-    if (watch->parsed()) return run_watch(client);
+    if (list->parsed() && !kind.empty()) {
+      // The kinds are the daemon's: this build's registry, which the client does not link.
+      json status = client.request("status", json::object());
+      if (!response_ok(status)) return print_failure(status);
+      const json kinds = status["result"].value("kinds", json::array());
+      if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
+        std::string names;
+        for (const json& k : kinds) names += (names.empty() ? "" : ", ") + k.get<std::string>();
+        std::cerr << "atelierctl: --kind " << kind << ": unknown kind; this daemon converts: " << names << "\n";
+        return kExitUsage;
+      }
+    }
     json response = client.request(cmd.verb, cmd.args, ControlClient::kDefaultTimeout, open_files);
     if (!response_ok(response)) return print_failure(response);
-    const json result = response.contains("result") ? response["result"] : json();
+    json result = response.contains("result") ? response["result"] : json();
+    if (list->parsed()) {
+      // {"jobs": [...], "total": N}; an older daemon answered the array alone.
+      json jobs = result.is_object() ? result.value("jobs", json::array()) : result;
+      if (std::string note = atelier::ctl::list_cut_note(result); !note.empty()) std::cerr << note;
+      result = std::move(jobs);
+    }
     if (cmd.json_output) {
       std::cout << result.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
     } else {

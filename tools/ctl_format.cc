@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <set>
 #include <sstream>
 #include <vector>
+
+#include "base/job_states.h"
 
 namespace atelier::ctl {
 namespace {
@@ -14,9 +17,7 @@ namespace {
 using nlohmann::json;
 
 // The job states in lifecycle order (DESIGN.md), so counts read as a pipeline.
-const std::vector<std::string> kStateOrder = {"queued",    "converting", "ready",
-                                              "running",   "completed",  "failed",
-                                              "canceled",  "interrupted"};
+const std::vector<std::string> kStateOrder(kJobStateNames.begin(), kJobStateNames.end());
 
 std::string dump(const json& value) {
   return value.dump(-1, ' ', false, json::error_handler_t::replace);
@@ -37,14 +38,19 @@ std::size_t char_count(const std::string& s) {
   return n;
 }
 
-std::string progress_text(const json& job) {
+// "30/120" (list) or "30/120 rows" (`with_unit`); a conversion's percent as "30%"; "-" for none.
+std::string progress_text(const json& job, bool with_unit = false) {
   if (!job.is_object() || !job.contains("progress")) return "-";
   const json& p = job["progress"];
   if (!p.is_object() || !p.contains("total") || !p["total"].is_number() ||
       p["total"].get<double>() <= 0) {
     return "-";
   }
-  return text(p, "done") + "/" + text(p, "total");
+  const std::string unit = text(p, "unit");
+  if (unit == "percent") return text(p, "done") + "%";
+  std::string out = text(p, "done") + "/" + text(p, "total");
+  if (with_unit && !unit.empty()) out += " " + unit;
+  return out;
 }
 
 struct Column {
@@ -111,8 +117,8 @@ std::string device_job_text(const json& device) {
   }
   if (job.is_object()) {
     std::string out = text(job, "id");
-    if (job.contains("progress") && job["progress"].is_object())
-      out += " (" + text(job["progress"], "done") + "/" + text(job["progress"], "total") + " rows)";
+    const std::string progress = progress_text(job, true);
+    if (progress != "-") out += " (" + progress + ")";
     return out;
   }
   return job.is_string() ? job.get<std::string>() : dump(job);
@@ -127,10 +133,13 @@ std::string scalar_lines(const json& object, const std::vector<std::string>& ord
   for (const auto& key : order) {
     if (!object.contains(key)) continue;
     shown.insert(key);
-    lines.emplace_back(key, key == "progress" ? progress_text(object)
-                            : key == "created" || key == "updated"
-                                ? local_time(text(object, key.c_str()))
-                                : text(object, key.c_str()));
+    std::string value = key == "progress" ? progress_text(object, true)
+                        : key == "created" || key == "updated"
+                            ? local_time(text(object, key.c_str()))
+                        : (key == "estimated_s" || key == "time_left_s") && object[key].is_number()
+                            ? duration_text(std::llround(object[key].get<double>()))
+                            : text(object, key.c_str());
+    lines.emplace_back(key == "estimated_s" ? "estimated" : key == "time_left_s" ? "time left" : key, value);
   }
   for (const auto& [key, value] : object.items()) {
     if (shown.count(key) || skip.count(key)) continue;
@@ -215,7 +224,7 @@ std::string format_job_details(const json& job) {
   if (!job.is_object()) return format_value(job);
   std::string out = scalar_lines(job,
                                  {"id", "kind", "name", "state", "reason", "device", "progress",
-                                  "created", "updated", "output_dir"},
+                                  "time_left_s", "estimated_s", "created", "updated", "output_dir"},
                                  {"outputs", "history"});
   if (job.contains("outputs")) {
     const json& outputs = job["outputs"];
@@ -301,14 +310,17 @@ std::string format_devices(const json& devices) {
   std::vector<std::vector<std::string>> rows;
   for (const json& d : devices) {
     rows.push_back({text(d, "name"), text(d, "driver"), or_dash(text(d, "port")),
-                    text(d, "state"), device_job_text(d)});
+                    text(d, "state"), device_job_text(d),
+                    or_dash(truncate_chars(text(d, "last"), kDeviceTextChars)),
+                    or_dash(truncate_chars(text(d, "detail"), kDeviceTextChars))});
   }
-  return table({{"NAME"}, {"DRIVER"}, {"PORT"}, {"STATE"}, {"JOB"}}, rows);
+  return table({{"NAME"}, {"DRIVER"}, {"PORT"}, {"STATE"}, {"JOB"}, {"LAST"}, {"DETAIL"}}, rows);
 }
 
 std::string format_event(const json& event) {
   const json job = event.is_object() && event.contains("job") ? event["job"] : json::object();
-  std::string when = local_time(text(job, "updated"));
+  // The event's own time: a progress step leaves the job's "updated" at its last state change.
+  std::string when = local_time(text(event, "at"));
   if (when.empty()) {
     std::time_t now = std::time(nullptr);
     std::tm local{};
@@ -334,9 +346,38 @@ std::string format_job_line(const json& job) {
   if (!job.is_object() || !job.contains("id")) return format_value(job);
   std::string line = "job " + text(job, "id") + " " + text(job, "name") + ": " +
                      text(job, "state");
+  const std::string effect = text(job, "effect");
   std::string reason = text(job, "reason");
-  if (!reason.empty()) line += " (" + reason + ")";
+  if (!effect.empty()) {
+    line += ", " + effect;  // what the command set under way, not shown by the reason yet
+  } else if (!reason.empty()) {
+    line += " (" + reason + ")";
+  }
   return line + "\n";
+}
+
+std::string list_cut_note(const json& result) {
+  if (!result.is_object() || !result.contains("jobs") || !result["jobs"].is_array() ||
+      !result.contains("total") || !result["total"].is_number_integer()) {
+    return "";
+  }
+  const auto shown = static_cast<long long>(result["jobs"].size());
+  const auto total = result["total"].get<long long>();
+  if (shown >= total) return "";
+  return "showing " + std::to_string(shown) + " of " + std::to_string(total) +
+         " jobs; --all for every job\n";
+}
+
+std::string format_cancel_all(const json& result) {
+  if (!result.is_object() || !result.contains("jobs")) return format_value(result);
+  std::string out;
+  for (const json& job : result["jobs"]) out += format_job_line(job);
+  const long long n = result.value("canceled", 0LL);
+  if (n == 0) return out + "no unfinished jobs to cancel\n";
+  out += "canceled " + std::to_string(n) + (n == 1 ? " job" : " jobs");
+  const long long stopping = result.value("stopping", 0LL);
+  if (stopping > 0) out += " (" + std::to_string(stopping) + " still stopping)";
+  return out + "\n";
 }
 
 std::string format_value(const json& value) {

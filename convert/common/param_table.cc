@@ -1,6 +1,7 @@
 #include "convert/common/param_table.h"
 
 #include <cmath>
+#include <type_traits>
 #include <sstream>
 
 #include "convert/common/display_text.h"
@@ -38,15 +39,40 @@ std::string toml_error_text(const toml::parse_error& error, const std::string& s
   return at + ": not valid TOML: " + safe_text(out);
 }
 
+namespace {
+thread_local ParamKeyLog* current_key_log = nullptr;
+}  // namespace
+
+ParamKeyLog::ParamKeyLog() : previous_(current_key_log) { current_key_log = this; }
+ParamKeyLog::~ParamKeyLog() { current_key_log = previous_; }
+
+template <typename T>
+void TableReader::note_default(const std::string& key, const T& def) const {
+  if (!current_key_log) return;
+  ParamKeyUse use{&table_, key, {}};
+  if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+    toml::array a;
+    for (const auto& s : def) a.push_back(s);
+    use.default_value.insert("v", std::move(a));
+  } else {
+    use.default_value.insert("v", def);
+  }
+  current_key_log->add(std::move(use));
+}
+
 TableReader::TableReader(const toml::table& table, std::string source, std::string section)
     : table_(table), source_(std::move(source)), section_(std::move(section)) {}
 
 const toml::node* TableReader::node(const std::string& key) {
   read_.insert(key);
+  if (current_key_log) current_key_log->add({&table_, key, {}});
   return table_.get(key);
 }
 
-bool TableReader::has(const std::string& key) const { return table_.contains(key); }
+bool TableReader::has(const std::string& key) const {
+  if (current_key_log) current_key_log->add({&table_, key, {}});
+  return table_.contains(key);
+}
 
 void TableReader::fail(const std::string& key, const std::string& problem) const {
   const toml::node* n = table_.get(key);
@@ -56,6 +82,7 @@ void TableReader::fail(const std::string& key, const std::string& problem) const
 }
 
 bool TableReader::get_bool(const std::string& key, bool def) {
+  note_default(key, def);
   const toml::node* n = node(key);
   if (!n) return def;
   if (auto v = n->value_exact<bool>()) return *v;
@@ -63,6 +90,7 @@ bool TableReader::get_bool(const std::string& key, bool def) {
 }
 
 int64_t TableReader::get_int(const std::string& key, int64_t def, int64_t lo, int64_t hi) {
+  note_default(key, def);
   const toml::node* n = node(key);
   if (!n) return def;
   auto v = n->value_exact<int64_t>();
@@ -75,6 +103,7 @@ int64_t TableReader::get_int(const std::string& key, int64_t def, int64_t lo, in
 }
 
 double TableReader::get_double(const std::string& key, double def, double lo, double hi) {
+  note_default(key, def);
   const toml::node* n = node(key);
   if (!n) return def;
   std::optional<double> v;
@@ -90,6 +119,7 @@ double TableReader::get_double(const std::string& key, double def, double lo, do
 }
 
 std::string TableReader::get_string(const std::string& key, const std::string& def) {
+  note_default(key, def);
   const toml::node* n = node(key);
   if (!n) return def;
   if (auto v = n->value_exact<std::string>()) return *v;
@@ -108,6 +138,7 @@ std::string TableReader::get_choice(const std::string& key, const std::string& d
 
 std::vector<std::string> TableReader::get_string_list(const std::string& key,
                                                       const std::vector<std::string>& def) {
+  note_default(key, def);
   const toml::node* n = node(key);
   if (!n) return def;
   const toml::array* arr = n->as_array();

@@ -37,6 +37,31 @@ std::string toml_error_text(const toml::parse_error& error, const std::string& s
 // or empty value, or a key that is absent or not a string, is left as it is.
 void make_path_absolute(toml::table& t, const std::string& key, const std::filesystem::path& base);
 
+// Which keys the TableReaders look up, for the test that holds config/atelierd.toml and its
+// man page to the code (tests/unit/config/atelierd_toml_test.cc). While a ParamKeyLog lives,
+// every TableReader on the same thread adds each key it reads or asks about (has()), with the
+// table it asked and the default its get_*() was given. Costs a thread-local test otherwise.
+struct ParamKeyUse {
+  const toml::table* table = nullptr;  // the table asked; not owned, valid while the caller's is
+  std::string key;
+  // The default the get_*() call was given (TOML value under "v"); empty for has(), get_table()
+  // and get_array(), which have none.
+  toml::table default_value;
+};
+class ParamKeyLog {
+ public:
+  ParamKeyLog();   // the thread's log until destroyed (one at a time per thread)
+  ~ParamKeyLog();
+  ParamKeyLog(const ParamKeyLog&) = delete;
+  ParamKeyLog& operator=(const ParamKeyLog&) = delete;
+  const std::vector<ParamKeyUse>& uses() const { return uses_; }
+  void add(ParamKeyUse use) { uses_.push_back(std::move(use)); }
+
+ private:
+  ParamKeyLog* previous_;
+  std::vector<ParamKeyUse> uses_;
+};
+
 // Reads keys out of one table and remembers which were read, so that `finish()` can
 // reject every key that nobody asked for. `source` names the file (or "--set") for errors
 // when a node carries no source information of its own.
@@ -67,6 +92,9 @@ class TableReader {
 
  private:
   const toml::node* node(const std::string& key);
+  // Tells the thread's ParamKeyLog (if any) the default `key` was read with.
+  template <typename T>
+  void note_default(const std::string& key, const T& def) const;
   const toml::table& table_;
   std::string source_;
   std::string section_;

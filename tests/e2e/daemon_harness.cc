@@ -203,8 +203,8 @@ nlohmann::json DaemonProcess::request(const std::string& verb, const nlohmann::j
 }
 
 nlohmann::json DaemonProcess::jobs() {
-  auto r = request("list", {{"limit", 100000}});
-  return r.at("result");
+  auto r = request("list", {{"limit", 0}});  // 0: every job
+  return r.at("result").at("jobs");  // {"jobs": [...], "total": n}
 }
 
 bool DaemonProcess::wait_for(const std::function<bool()>& done, std::chrono::milliseconds timeout) {

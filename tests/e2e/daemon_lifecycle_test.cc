@@ -7,8 +7,10 @@
 
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <opencv2/imgcodecs.hpp>
 
+#include "daemon/store.h"
 #include "tests/e2e/daemon_harness.h"
 
 namespace fs = std::filesystem;
@@ -126,5 +128,61 @@ TEST(E2EDaemon, ASecondDaemonOnTheSameSpoolIsRefusedAndTheFirstKeepsServing) {
   EXPECT_EQ(second.exit_code, 1);
   EXPECT_NE(second.err.find("another atelierd"), std::string::npos) << second.err;
   EXPECT_TRUE(daemon.request("status")["ok"]);
+  EXPECT_EQ(daemon.stop(SIGTERM), 0);
+}
+
+TEST(E2EDaemon, FinishedJobsPastRetentionArePurgedWithTheirFoldersAtStartUpAndAtOnceOnReload) {
+  TempDir tmp;
+  DaemonProcess daemon(tmp.path());  // [store] keep_days and keep_jobs at their defaults
+  constexpr int64_t kDay = int64_t{24} * 60 * 60 * 1000;
+  int64_t old_done = 0, old_failed = 0, recent = 0, interrupted = 0;
+  {
+    // A store from an earlier run: jobs and their folders where the daemon put them.
+    atelier::Store store(tmp.path() / "jobs.sqlite");
+    auto add = [&](atelier::JobState state, int64_t age_ms, const char* parent) {
+      atelier::Job j;
+      j.id = store.reserve_id();
+      j.kind = "knit";
+      j.name = "cat.png";
+      j.state = state;
+      j.created_ms = j.updated_ms = atelier::now_ms() - age_ms;
+      const fs::path folder = daemon.spool() / parent / std::to_string(j.id);
+      j.output_dir = folder.string();
+      fs::create_directories(folder);
+      atelier::test::write_file(folder / "pattern.png", "png");
+      store.insert_job(j);
+      return j.id;
+    };
+    old_done = add(atelier::JobState::completed, 31 * kDay, "done");
+    old_failed = add(atelier::JobState::failed, 45 * kDay, "failed");
+    recent = add(atelier::JobState::completed, 29 * kDay, "done");
+    interrupted = add(atelier::JobState::interrupted, 90 * kDay, "done");  // waits to be resumed
+  }
+  daemon.start();
+  auto ids = [&] {
+    std::set<int64_t> out;
+    for (const auto& j : daemon.jobs()) out.insert(j["id"].get<int64_t>());
+    return out;
+  };
+  ASSERT_TRUE(daemon.wait_for([&] { return ids().size() == 2; }, std::chrono::seconds(30)))
+      << daemon.log();
+  EXPECT_EQ(ids(), (std::set<int64_t>{recent, interrupted}));
+  EXPECT_FALSE(fs::exists(daemon.spool() / "done" / std::to_string(old_done)));
+  EXPECT_FALSE(fs::exists(daemon.spool() / "failed" / std::to_string(old_failed)));
+  EXPECT_TRUE(fs::exists(daemon.spool() / "done" / std::to_string(recent) / "pattern.png"));
+  EXPECT_TRUE(fs::exists(daemon.spool() / "done" / std::to_string(interrupted) / "pattern.png"));
+  EXPECT_TRUE(daemon.wait_for([&] { return daemon.log().find("retention: purged 2 finished jobs") != std::string::npos; },
+                              std::chrono::seconds(10)))
+      << daemon.log();
+  // A reload with a shorter keep_days purges at once, not at the next hour.
+  std::string cfg = atelier::test::read_file(daemon.config());
+  const std::string store = "[store]\npath = \"jobs.sqlite\"\n";
+  ASSERT_NE(cfg.find(store), std::string::npos) << cfg;
+  cfg.replace(cfg.find(store), store.size(), store + "keep_days = 28\n");
+  atelier::test::write_file(daemon.config(), cfg);
+  ::kill(daemon.pid(), SIGHUP);
+  ASSERT_TRUE(daemon.wait_for([&] { return ids().size() == 1; }, std::chrono::seconds(30))) << daemon.log();
+  EXPECT_EQ(ids(), std::set<int64_t>{interrupted});
+  EXPECT_FALSE(fs::exists(daemon.spool() / "done" / std::to_string(recent)));
   EXPECT_EQ(daemon.stop(SIGTERM), 0);
 }

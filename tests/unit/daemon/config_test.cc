@@ -55,6 +55,19 @@ TEST(Config, JobMemoryBudgetIsALimitsKeyWithABound) {
   EXPECT_NE(e.find("limits.job_memory_mb"), std::string::npos) << e;
 }
 
+TEST(Config, RetentionKeepsThirtyDaysAndFiveHundredJobsUnlessTheStoreSectionSaysOtherwise) {
+  Config c = parse_config("[spool]\ndir = \"/s\"\n", "a.toml");
+  EXPECT_EQ(c.keep_days, 30);
+  EXPECT_EQ(c.keep_jobs, 500);
+  c = parse_config("[spool]\ndir = \"/s\"\n[store]\nkeep_days = 0\nkeep_jobs = 20\n", "a.toml");
+  EXPECT_EQ(c.keep_days, 0);
+  EXPECT_EQ(c.keep_jobs, 20);
+  std::string e = error_of("[spool]\ndir = \"/s\"\n[store]\nkeep_days = -1\n");
+  EXPECT_NE(e.find("atelierd.toml:4: key 'store.keep_days': value -1 is outside [0, 36500]"), std::string::npos) << e;
+  e = error_of("[spool]\ndir = \"/s\"\n[store]\nkeep_jobs = \"all\"\n");
+  EXPECT_NE(e.find("key 'store.keep_jobs': expected an integer"), std::string::npos) << e;
+}
+
 TEST(Config, RelativePathsFollowTheConfigFile) {
   Config c = parse_config("[spool]\ndir = \"spool\"\n", "/opt/demo/atelierd.toml");
   EXPECT_EQ(c.spool_dir, "/opt/demo/spool");

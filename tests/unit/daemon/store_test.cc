@@ -136,13 +136,13 @@ std::string error_of(const std::function<void()>& f) {
 
 TEST_F(StoreTest, FreshDatabaseIsWalAtLatestVersion) {
   Store store(db_path());
-  EXPECT_EQ(latest_schema_version(), 2);
+  EXPECT_EQ(latest_schema_version(), 3);
   EXPECT_EQ(store.schema_version(), latest_schema_version());
 
   RawDb raw(db_path());
   EXPECT_EQ(raw.text("PRAGMA journal_mode"), "wal");
   EXPECT_EQ(raw.integer("PRAGMA user_version"), latest_schema_version());
-  for (const char* table : {"jobs", "events", "id_sequence"}) {
+  for (const char* table : {"jobs", "events", "id_sequence", "purged_folders"}) {
     EXPECT_EQ(raw.integer(std::string("SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' "
                                       "AND name = '") + table + "'"), 1) << table;
   }
@@ -503,6 +503,24 @@ TEST_F(StoreTest, ListFiltersByStateAndKindNewestFirst) {
   EXPECT_EQ(lace[0].reason, "canceled by user");
 }
 
+TEST_F(StoreTest, CountIsEveryMatchingJobWhateverTheLimitAndANegativeLimitListsAll) {
+  Store store(db_path());
+  for (int i = 0; i < 1003; ++i) add_job(store, i % 5 == 0 ? "lace" : "knit", "j" + std::to_string(i) + ".png");
+  JobFilter page;  // the default page: the 1000 newest
+  EXPECT_EQ(store.list(page).size(), 1000u);
+  EXPECT_EQ(store.count(page), 1003);
+  JobFilter every;
+  every.limit = -1;
+  EXPECT_EQ(store.list(every).size(), 1003u);
+  JobFilter lace;
+  lace.kind = "lace";
+  lace.limit = 3;
+  EXPECT_EQ(store.list(lace).size(), 3u);
+  EXPECT_EQ(store.count(lace), 201);
+  lace.state = JobState::failed;
+  EXPECT_EQ(store.count(lace), 0);
+}
+
 TEST_F(StoreTest, CountsIncludeEveryStateEvenZero) {
   Store store(db_path());
   auto empty = store.counts();
@@ -614,6 +632,85 @@ TEST_F(StoreTest, DataSurvivesCloseAndReopen) {
   // The reopened store keeps working.
   store.transition(saved.id, S::running, "armed");
   EXPECT_EQ(store.get(saved.id)->state, S::running);
+}
+
+// Retention's part of the store: which finished jobs there are, and purging them.
+TEST_F(StoreTest, FinishedJobsAreCompletedFailedAndCanceledWithTheirLastChange) {
+  Store store(db_path());
+  std::map<JobState, int64_t> id_in;
+  for (JobState st : test::kAllStates) {
+    id_in[st] = add_job(store);
+    drive_to(store, id_in[st], st);
+  }
+  std::set<int64_t> finished;
+  for (const FinishedJob& f : store.finished_jobs()) {
+    finished.insert(f.id);
+    EXPECT_EQ(f.finished_ms, store.get(f.id)->updated_ms) << f.id;
+  }
+  EXPECT_EQ(finished, (std::set<int64_t>{id_in[S::completed], id_in[S::failed], id_in[S::canceled]}));
+  for (JobState st : test::kAllStates)
+    EXPECT_EQ(is_finished(st), st == S::completed || st == S::failed || st == S::canceled) << state_name(st);
+}
+
+TEST_F(StoreTest, PurgeDeletesFinishedJobsWithTheirHistoryAndRecordsTheirFolders) {
+  Store store(db_path());
+  std::map<JobState, int64_t> id_in;
+  for (JobState st : test::kAllStates) {
+    id_in[st] = add_job(store);
+    const std::vector<JobState> path = path_to(st);
+    for (size_t i = 0; i < path.size(); ++i) {
+      // The last step records an output folder, as JobService does when a job finishes.
+      std::optional<std::string> folder;
+      if (i + 1 == path.size()) folder = "/spool/done/" + std::to_string(id_in[st]);
+      store.transition(id_in[st], path[i], "step", folder);
+    }
+  }
+  std::vector<int64_t> every;
+  for (const auto& [st, id] : id_in) every.push_back(id);
+  every.push_back(9999);  // no such job: skipped
+
+  const std::vector<int64_t> purged = store.purge(every);
+
+  std::vector<int64_t> expected{id_in[S::completed], id_in[S::failed], id_in[S::canceled]};
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(purged, expected);
+  for (JobState st : test::kAllStates) {
+    const int64_t id = id_in[st];
+    if (is_finished(st)) {
+      EXPECT_FALSE(store.get(id)) << state_name(st) << " job is gone";
+      EXPECT_TRUE(store.history(id).empty()) << state_name(st) << " job's history is gone";
+    } else {
+      ASSERT_TRUE(store.get(id)) << "an unfinished (" << state_name(st) << ") job is never purged";
+      EXPECT_EQ(store.get(id)->state, st);
+      EXPECT_FALSE(store.history(id).empty());
+    }
+  }
+  RawDb raw(db_path());
+  EXPECT_EQ(raw.integer("SELECT COUNT(*) FROM events WHERE job_id NOT IN (SELECT id FROM jobs)"), 0);
+  std::vector<std::pair<int64_t, std::string>> folders;
+  for (const PurgedFolder& f : store.purged_folders()) folders.emplace_back(f.job_id, f.path);
+  std::vector<std::pair<int64_t, std::string>> want;
+  for (int64_t id : expected) want.emplace_back(id, "/spool/done/" + std::to_string(id));
+  EXPECT_EQ(folders, want);
+  store.forget_purged_folder(expected[0]);
+  EXPECT_EQ(store.purged_folders().size(), 2u);
+  EXPECT_EQ(store.counts()[S::completed], 0);
+}
+
+TEST_F(StoreTest, ADatabaseMigratedFromVersionOneCanPurge) {
+  fs::create_directories(db_path().parent_path());
+  {
+    RawDb raw(db_path());
+    raw.exec(kV1Sql);
+    raw.exec("PRAGMA user_version = 1");
+  }
+  {
+    Store store(db_path());  // v1 -> latest
+    const int64_t id = add_job(store);
+    drive_to(store, id, S::completed);
+    EXPECT_EQ(store.purge({id}), std::vector<int64_t>{id});
+    EXPECT_TRUE(store.purged_folders().empty()) << "a job without an output folder records none";
+  }
 }
 
 }  // namespace

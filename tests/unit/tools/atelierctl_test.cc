@@ -4,6 +4,7 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -143,6 +145,37 @@ struct CtlRun {
   std::string err;
 };
 
+// atelierctl running in the background (watch), its output in files; SIGTERMed by stop().
+class Background {
+ public:
+  Background(pid_t pid, fs::path out, fs::path err) : pid_(pid), out_(std::move(out)), err_(std::move(err)) {}
+  Background(Background&& o) noexcept : pid_(std::exchange(o.pid_, -1)), out_(o.out_), err_(o.err_) {}
+  ~Background() { stop(); }
+  std::string out() const { return read_file(out_); }
+  std::string err() const { return read_file(err_); }
+  // Polls stdout every 20 ms for `text`, for at most 30 s.
+  bool wait_for_out(const std::string& text) const {
+    for (int i = 0; i < 1500; ++i) {
+      if (out().find(text) != std::string::npos) return true;
+      ::usleep(20000);
+    }
+    return false;
+  }
+  // Sends SIGTERM, reaps it, returns its exit code (128 + signal if it was killed).
+  int stop() {
+    if (pid_ <= 0) return -1;
+    ::kill(pid_, SIGTERM);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+
+ private:
+  pid_t pid_;
+  fs::path out_, err_;
+};
+
 class AtelierctlTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -175,6 +208,19 @@ class AtelierctlTest : public ::testing::Test {
 
   std::string sock() { return "--socket '" + daemon().path() + "' "; }
 
+  // Starts atelierctl `args` (shell words) in the background, TZ=UTC.
+  Background start_ctl(const std::string& args) {
+    fs::path out = dir_ / "bg-stdout", err = dir_ / "bg-stderr";
+    std::string command = "exec env -u ATELIER_SOCKET TZ=UTC '" + kCtl + "' " + args + " >'" +
+                          out.string() + "' 2>'" + err.string() + "' </dev/null";
+    pid_t pid = ::fork();
+    if (pid == 0) {
+      ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    return Background(pid, out, err);
+  }
+
   fs::path dir_;
   std::unique_ptr<FakeDaemon> daemon_;
 };
@@ -200,22 +246,102 @@ TEST_F(AtelierctlTest, ListJsonPassesServerArrayThrough) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(json::parse(r.out), jobs);
   ASSERT_EQ(daemon().requests().size(), 1u);
-  EXPECT_EQ(daemon().requests()[0], (json{{"verb", "list"}, {"args", json::object()}}));
+  EXPECT_EQ(daemon().requests()[0], (json{{"verb", "list"}, {"args", {{"limit", 1000}}}}));
 }
 
 TEST_F(AtelierctlTest, ListStateFilterSendsExactRequest) {
-  daemon().respond([](const json&) { return ok(json::array()); });
+  daemon().respond([](const json& req) {
+    if (req["verb"] == "status") return ok({{"kinds", {"knit", "cut"}}});
+    return ok({{"jobs", json::array()}, {"total", 0}});
+  });
   CtlRun r = ctl(sock() + "list --state failed");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "no jobs\n");
   ASSERT_EQ(daemon().requests().size(), 1u);
   EXPECT_EQ(daemon().requests()[0],
-            json::parse(R"({"verb":"list","args":{"state":"failed"}})"));
+            json::parse(R"({"verb":"list","args":{"state":"failed","limit":1000}})"));
 
+  // A kind is checked against the daemon's kinds first.
   r = ctl(sock() + "list --kind knit --state queued");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(daemon().requests().at(1),
-            json::parse(R"({"verb":"list","args":{"state":"queued","kind":"knit"}})"));
+  EXPECT_EQ(daemon().requests().at(1)["verb"], "status");
+  EXPECT_EQ(daemon().requests().at(2),
+            json::parse(R"({"verb":"list","args":{"state":"queued","kind":"knit","limit":1000}})"));
+}
+
+TEST_F(AtelierctlTest, ListLimitAndAllAskForThatManyAndACutListSaysSo) {
+  daemon().respond([](const json& req) {
+    const int limit = req["args"]["limit"].get<int>();
+    json jobs = json::array();
+    for (int id = 5; id > 0 && (limit == 0 || static_cast<int>(jobs.size()) < limit); --id)
+      jobs.push_back(job(id, "j" + std::to_string(id) + ".png", "completed"));
+    return ok({{"jobs", jobs}, {"total", 5}});
+  });
+  CtlRun r = ctl(sock() + "list --limit 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(daemon().requests().at(0)["args"], (json{{"limit", 2}}));
+  EXPECT_EQ(lines_of(r.out).size(), 3u) << r.out;  // title + 2 jobs
+  EXPECT_EQ(r.err, "showing 2 of 5 jobs; --all for every job\n");
+
+  r = ctl(sock() + "list --all --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(daemon().requests().at(1)["args"], (json{{"limit", 0}}));
+  EXPECT_EQ(json::parse(r.out).size(), 5u);  // --json is the array of jobs
+  EXPECT_EQ(r.err, "");
+
+  for (const char* bad : {"list --limit 0", "list --limit x", "list --limit 3 --all"}) {
+    r = ctl(sock() + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
+  }
+  EXPECT_EQ(daemon().requests().size(), 2u);
+}
+
+TEST_F(AtelierctlTest, ListOfAnUnknownStateIsAUsageErrorNamingTheStates) {
+  daemon();
+  CtlRun r = ctl(sock() + "list --state bogus");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  for (const char* state : {"bogus", "queued", "converting", "ready", "running", "completed", "failed",
+                            "canceled", "interrupted"})
+    EXPECT_NE(r.err.find(state), std::string::npos) << state << " missing in " << r.err;
+  EXPECT_TRUE(daemon().requests().empty());
+}
+
+TEST_F(AtelierctlTest, ListOfAnUnknownKindIsAUsageErrorNamingTheDaemonsKinds) {
+  daemon().respond([](const json&) { return ok({{"kinds", {"knit", "cut", "lace"}}}); });
+  CtlRun r = ctl(sock() + "list --kind bogus");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("bogus"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("knit, cut, lace"), std::string::npos) << r.err;
+  ASSERT_EQ(daemon().requests().size(), 1u);  // only the question, no list
+  EXPECT_EQ(daemon().requests()[0]["verb"], "status");
+}
+
+TEST_F(AtelierctlTest, AnUnknownVerbIsNamed) {
+  daemon();
+  for (const char* args : {"frobnicate", "frobnicate 12", "--socket /x frobnicate"}) {
+    CtlRun r = ctl(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_NE(r.err.find("unknown verb 'frobnicate'"), std::string::npos) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("list"), std::string::npos) << r.err;  // the verbs there are
+  }
+  EXPECT_TRUE(daemon().requests().empty());
+}
+
+TEST_F(AtelierctlTest, CancelAllAsksForEveryJobAndSaysHowMany) {
+  daemon().respond([](const json&) {
+    return ok({{"jobs", {job(4, "a.png", "canceled", "canceled by user"), job(3, "b.png", "canceled", "canceled by user")}},
+               {"canceled", 2},
+               {"stopping", 0}});
+  });
+  CtlRun r = ctl(sock() + "cancel --all");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(daemon().requests().at(0), (json{{"verb", "cancel"}, {"args", {{"all", true}}}}));
+  EXPECT_NE(r.out.find("canceled 2 jobs"), std::string::npos) << r.out;
+  for (const char* bad : {"cancel", "cancel 3 --all"}) {
+    r = ctl(sock() + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
+  }
+  EXPECT_EQ(daemon().requests().size(), 1u);
 }
 
 TEST_F(AtelierctlTest, ListTableIsAlignedAndTruncatesLongReasons) {
@@ -414,22 +540,46 @@ TEST_F(AtelierctlTest, WatchPrintsOneLinePerEvent) {
     EXPECT_EQ(req, (json{{"verb", "watch"}, {"args", json::object()}}));
     json done = job(12, "cat.jpg", "completed");
     json failed = job(13, "dog.png", "failed");
-    failed["updated"] = "2024-05-01T12:05:00Z";
     return Reply{{json{{"ok", true}, {"result", "watching"}}.dump(),
-                  json{{"event", {{"job", done}, {"from", "converting"}, {"to", "completed"},
-                                  {"reason", "converted"}}}}.dump(),
-                  json{{"event", {{"job", failed}, {"from", "queued"}, {"to", "failed"},
-                                  {"reason", "not an image"}}}}.dump()},
-                 true};  // then the "daemon" goes away
+                  json{{"event", {{"at", "2024-05-01T12:03:04.100Z"}, {"job", done}, {"from", "converting"},
+                                  {"to", "completed"}, {"reason", "converted"}}}}.dump(),
+                  json{{"event", {{"at", "2024-05-01T12:05:00.000Z"}, {"job", failed}, {"from", "queued"},
+                                  {"to", "failed"}, {"reason", "not an image"}}}}.dump()}};
   });
-  CtlRun r = ctl(sock() + "watch");
-  EXPECT_EQ(lines_of(r.out),
+  Background watch = start_ctl(sock() + "watch");
+  ASSERT_TRUE(watch.wait_for_out("dog.png")) << watch.out() << watch.err();
+  EXPECT_EQ(lines_of(watch.out()),
             (std::vector<std::string>{
                 "2024-05-01 12:03:04 job 12 cat.jpg: converting -> completed (converted)",
                 "2024-05-01 12:05:00 job 13 dog.png: queued -> failed (not an image)"}));
-  // The stream ending is the daemon becoming unreachable.
+  EXPECT_EQ(watch.stop(), 0);  // SIGTERM (as Ctrl-C) ends a watch with success
+}
+
+TEST_F(AtelierctlTest, WatchWithNoDaemonExitsThree) {
+  CtlRun r = ctl("--socket '" + (dir_ / "nobody.sock").string() + "' watch");
   EXPECT_EQ(r.exit_code, 3);
-  EXPECT_NE(r.err.find("closed the connection"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nobody.sock"), std::string::npos) << r.err;
+}
+
+TEST_F(AtelierctlTest, WatchReconnectsWhenTheDaemonComesBack) {
+  int connection = 0;
+  daemon().respond([&](const json&) {
+    ++connection;
+    json event = {{"event",
+                   {{"at", "2024-05-01T12:0" + std::to_string(connection) + ":00Z"},
+                    {"job", job(20 + connection, "c" + std::to_string(connection) + ".png", "queued")},
+                    {"from", ""},
+                    {"to", "queued"},
+                    {"reason", "dropped"}}}};
+    // The first daemon goes away after one event; the one after the restart stays.
+    return Reply{{json{{"ok", true}, {"result", "watching"}}.dump(), event.dump()}, connection == 1};
+  });
+  Background watch = start_ctl(sock() + "watch");
+  ASSERT_TRUE(watch.wait_for_out("c2.png")) << watch.out() << "\n" << watch.err();
+  EXPECT_NE(watch.out().find("job 21 c1.png: (new) -> queued"), std::string::npos) << watch.out();
+  EXPECT_NE(watch.err().find("daemon gone, reconnecting"), std::string::npos) << watch.err();
+  EXPECT_NE(watch.err().find("reconnected"), std::string::npos) << watch.err();
+  EXPECT_EQ(watch.stop(), 0);
 }
 
 }  // namespace
