@@ -139,6 +139,11 @@ int main(int argc, char** argv) {
   // Not job kinds: commands with their own options (and --help).
   if (argc >= 2 && std::string(argv[1]) == "line") return atelier::convert_tool::run_line(argc - 1, argv + 1);
   if (argc >= 2 && std::string(argv[1]) == "pencil-profile") return atelier::convert_tool::run_pencil_profile(argc - 1, argv + 1);
+  // Before CLI11: its version flag does not win over the required positionals.
+  if (argc == 2 && std::string(argv[1]) == "--version") {
+    std::cout << "atelier-convert " ATELIER_VERSION "\n";
+    return 0;
+  }
   if (argc == 2 && std::string(argv[1]) == "--list-kinds") {
     for (const std::string& k : atelier::known_kinds()) std::cout << k << "\n";
     return 0;

@@ -91,7 +91,12 @@ int main(int argc, char** argv) {
       "  delay-ms=N            delay every reply by N ms\n"
       "  no-dtr-reset          do not restart when the host closes the port (auto-reset disabled)\n"
       "Otherwise closing the port (or the host dying) drops DTR and restarts the firmware.");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints the help, the version or the usage error
+    return code == 0 ? 0 : 2;      // usage errors exit 2, as the other programs'
+  }
 
   const auto machine = ab::machine_from_name(machine_arg);
   if (!machine) {

@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -184,16 +187,56 @@ TEST_F(Purge, AFolderLeftByACutOffPassIsRemovedByTheNext) {
   EXPECT_TRUE(store_.purged_folders().empty());
 }
 
+// Makes `dir` unremovable for this process and undoes it: without write permission for a
+// normal user; root ignores permissions, so for root a file inside is made immutable
+// (FS_IMMUTABLE_FL, as chattr +i). False if neither can be done here.
+class Unremovable {
+ public:
+  explicit Unremovable(const fs::path& dir) : dir_(dir) {
+    if (::geteuid() != 0) {
+      fs::permissions(dir_, fs::perms::owner_read | fs::perms::owner_exec);
+      ok_ = true;
+      return;
+    }
+    write_file(dir_ / "pinned", "x");
+    fd_ = ::open((dir_ / "pinned").c_str(), O_RDONLY | O_CLOEXEC);
+    ok_ = fd_ >= 0 && set_flag(true);
+  }
+  ~Unremovable() { release(); }
+  void release() {
+    if (fd_ >= 0) {
+      set_flag(false);
+      ::close(fd_);
+      fd_ = -1;
+    } else if (ok_) {
+      fs::permissions(dir_, fs::perms::owner_all);
+    }
+    ok_ = false;
+  }
+  bool ok() const { return ok_; }
+
+ private:
+  bool set_flag(bool on) {
+    int flags = 0;
+    if (::ioctl(fd_, FS_IOC_GETFLAGS, &flags) != 0) return false;
+    flags = on ? (flags | FS_IMMUTABLE_FL) : (flags & ~FS_IMMUTABLE_FL);
+    return ::ioctl(fd_, FS_IOC_SETFLAGS, &flags) == 0;
+  }
+  fs::path dir_;
+  int fd_ = -1;
+  bool ok_ = false;
+};
+
 TEST_F(Purge, AFolderThatCannotBeRemovedIsTriedAgainAtTheNextPass) {
-  if (::geteuid() == 0) GTEST_SKIP() << "root removes what it cannot write";
   const int64_t id = job(JobState::completed, 40 * kDay);
-  fs::permissions(layout_.done(id), fs::perms::owner_read | fs::perms::owner_exec);
+  Unremovable pin(layout_.done(id));
+  if (!pin.ok()) GTEST_SKIP() << "this file system cannot make " << layout_.done(id) << " unremovable for root";
   PurgeReport report = purge_finished_jobs(store_, layout_, {.keep_days = 30, .keep_jobs = 0}, now_ms());
   EXPECT_EQ(report.jobs, std::vector<int64_t>{id});
   ASSERT_EQ(report.problems.size(), 1u);
   EXPECT_NE(report.problems[0].find(layout_.done(id).string()), std::string::npos) << report.problems[0];
   EXPECT_EQ(store_.purged_folders().size(), 1u);
-  fs::permissions(layout_.done(id), fs::perms::owner_all);
+  pin.release();
   report = purge_finished_jobs(store_, layout_, {.keep_days = 30, .keep_jobs = 0}, now_ms());
   EXPECT_EQ(report.folders_removed, 1);
   EXPECT_FALSE(fs::exists(layout_.done(id)));
