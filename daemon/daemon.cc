@@ -52,11 +52,6 @@ std::string shortened(const std::string& text) {
 // `list` without a "limit": the newest this many jobs (the reply's "total" says how many match).
 constexpr int64_t kDefaultListLimit = 1000;
 
-// How long a command's answer waits for its effect to show in the job (a start turning the job
-// running, a cancel ending it). The control thread waits, so keep it short; a job that has not
-// moved on by then is answered with an "effect" saying what is under way.
-constexpr auto kEffectWait = std::chrono::milliseconds(1500);
-
 JobFilter list_filter(const nlohmann::json& args) {
   JobFilter filter;
   if (args.contains("state")) {
@@ -366,7 +361,7 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
     const Job before = *store_->get(id);
     const std::string tag = std::to_string(id);
     std::string effect;  // what the command set under way, for an answer before it shows
-    bool wait = true;
+    bool settles = true;  // the job moves on shortly (running, or canceled)
     try {
       if (verb == "start") {
         device.start(id);
@@ -374,11 +369,11 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
       } else if (verb == "hold") {
         device.hold(id);
         effect = "held (feed hold: motion stopped, beam off; `atelierctl resume " + tag + "` continues)";
-        wait = false;  // a hold leaves the job running with its reason
+        settles = false;  // a hold leaves the job running with its reason
       } else if (verb == "frame") {
         device.frame(id);
         effect = "framing on " + name + " with the beam off (`atelierctl devices` shows the outcome under LAST)";
-        wait = false;  // the job stays ready; the outcome is the device's
+        settles = false;  // the job stays ready; the outcome is the device's
       } else {
         int from_row = 0;  // none: a laser's feed hold is released
         if (args.contains("from_row")) {
@@ -390,12 +385,12 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
         effect = from_row > 0 ? "resuming from row " + std::to_string(from_row) + " (runs on " + name +
                                     " as soon as it is free)"
                               : "resumed";
-        wait = from_row > 0;  // a laser continues at once; its job stays running
+        settles = from_row > 0;  // a laser continues at once; its job stays running
       }
     } catch (const std::runtime_error& e) {
       throw ControlError(e.what());
     }
-    return after_command(before, wait, effect);
+    return after_command(before, settles, effect);
   }
   if (verb == "devices") return devices_json();
   if (verb == "wood") return wood(request);
@@ -455,17 +450,18 @@ void Daemon::request_cancel(const Job& job) {
                        "; only queued, converting, ready or running jobs can be canceled");
 }
 
-nlohmann::json Daemon::after_command(const Job& before, bool wait, const std::string& effect) {
+nlohmann::json Daemon::after_command(const Job& before, bool settles, const std::string& effect) {
+  // Answered at once: the control thread serves every client, so it never waits for a device.
+  // A job that has not moved on yet carries what is under way ("effect") and, when it will
+  // move on shortly (a start turning it running), "settling": atelierctl then follows it with
+  // `show` for a moment and prints the job as it became.
   const int64_t id = before.id;
   std::optional<Job> job = store_->get(id);
   if (!job) throw ControlError("no job " + std::to_string(id));
-  const auto until = std::chrono::steady_clock::now() + kEffectWait;
-  while (wait && same_step(*job, before) && std::chrono::steady_clock::now() < until) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    job = store_->get(id);
-  }
   nlohmann::json out = job_to_json(*job);
-  if (!effect.empty() && (!wait || same_step(*job, before))) out["effect"] = effect;
+  if (!same_step(*job, before)) return out;
+  if (!effect.empty()) out["effect"] = effect;
+  if (settles) out["settling"] = true;
   return out;
 }
 
@@ -493,14 +489,8 @@ nlohmann::json Daemon::cancel_all() {
   }
   nlohmann::json jobs = nlohmann::json::array();
   int64_t stopping = 0;
-  const auto until = std::chrono::steady_clock::now() + kEffectWait;
   for (const Job& job : asked) {
     auto now = store_->get(job.id);
-    while (now && (now->state == JobState::converting || now->state == JobState::running) &&
-           std::chrono::steady_clock::now() < until) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      now = store_->get(job.id);
-    }
     if (!now) continue;
     nlohmann::json j = job_to_json(*now);
     if (now->state == JobState::converting || now->state == JobState::running) {

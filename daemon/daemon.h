@@ -54,10 +54,10 @@ class Daemon {
   void request_cancel(const Job& job);
   // `cancel --all`: every queued, converting, ready and running job.
   nlohmann::json cancel_all();
-  // The answer to a command on job `before.id`: the job as it is now, after waiting (`wait`,
-  // briefly) for its state or reason to move on; `effect` (what the command set under way)
-  // is added when the job does not show it yet.
-  nlohmann::json after_command(const Job& before, bool wait, const std::string& effect = "");
+  // The answer to a command on job `before.id`, at once: the job as it is now; when it does
+  // not show the command yet, `effect` (what the command set under way) and, if it will move
+  // on shortly (`settles`), "settling": true, so the client may follow it with `show`.
+  nlohmann::json after_command(const Job& before, bool settles, const std::string& effect = "");
   void reload();
   void notify_status();
   std::shared_ptr<const Config> config() const;

@@ -117,6 +117,25 @@ bool response_ok(const json& response) {
   return response.contains("ok") && response["ok"].is_boolean() && response["ok"].get<bool>();
 }
 
+// A command's answer that says "settling" (the job moves on shortly: a start turning it
+// running, a cancel ending it) is followed with `show` for a moment, so the confirmation shows
+// the job as the command left it; the daemon answers at once and never waits itself.
+json settled(ControlClient& client, const json& answer) {
+  if (!answer.is_object() || !answer.value("settling", false) || !answer.contains("id")) return answer;
+  const auto same_step = [&](const json& job) {
+    return job.value("state", "") == answer.value("state", "") &&
+           job.value("reason", "") == answer.value("reason", "");
+  };
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(1500);
+  while (std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const json shown = client.request("show", {{"id", answer["id"]}});
+    if (!response_ok(shown) || !shown.contains("result")) break;  // gone: the answer is all we know
+    if (!same_step(shown["result"])) return shown["result"];
+  }
+  return answer;
+}
+
 // Follows state changes until interrupted (exit 0). When the daemon goes away (a restart),
 // says so on stderr and connects again, waiting 0.5 s, 1 s, 2 s, ... up to 5 s between
 // attempts, and says when it is back. A daemon unreachable at the start ends it at once
@@ -391,6 +410,7 @@ int main(int argc, char** argv) {
     json response = client.request(cmd.verb, cmd.args, ControlClient::kDefaultTimeout, open_files);
     if (!response_ok(response)) return print_failure(response);
     json result = response.contains("result") ? response["result"] : json();
+    result = settled(client, result);
     if (list->parsed()) {
       // {"jobs": [...], "total": N}; an older daemon answered the array alone.
       json jobs = result.is_object() ? result.value("jobs", json::array()) : result;
