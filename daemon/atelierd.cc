@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "base/cli_parse.h"
 #include "convert/common/param_table.h"
 #include "daemon/config.h"
 #include "daemon/daemon.h"
@@ -21,12 +22,7 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "log debug messages");
   app.add_flag("--check-config", check, "validate the configuration and exit");
   app.set_version_flag("--version", "atelierd " ATELIER_VERSION, "print \"atelierd VERSION\" and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints the help, the version or the usage error
-    return code == 0 ? 0 : 2;      // usage errors exit 2, as atelierctl's and atelier-convert's
-  }
+  if (auto stop = atelier::parse_command_line(app, argc, argv)) return *stop;
   atelier::log::set_verbose(verbose);
   atelier::log::init();  // native journal entries under systemd, plain stderr lines otherwise
   atelier::Config config;

@@ -51,6 +51,7 @@
 #include <string>
 #include <vector>
 
+#include "base/cli_parse.h"
 #include "convert/convert.h"
 #include "convert/kinds.h"
 #include "convert/common/memory_budget.h"
@@ -210,12 +211,7 @@ int main(int argc, char** argv) {
   app.add_option("--confine", confine,
                  "files named by the sidecar, job file or --set must be inside DIR (repeatable)")
       ->allow_extra_args(false);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : 2;
-  }
+  if (auto stop = atelier::parse_command_line(app, argc, argv)) return *stop;
   for (const auto& w : with) {
     if (w.size() != 2) {
       std::cerr << "error: --with takes two values: INPUT OUTPUT_DIR\n"

@@ -32,6 +32,7 @@
 #include <iostream>
 #include <memory>
 
+#include "base/cli_parse.h"
 #include "drivers/ayab/messages.h"
 #include "tools/knit_emu/faults.h"
 #include "tools/knit_emu/firmware.h"
@@ -91,12 +92,7 @@ int main(int argc, char** argv) {
       "  delay-ms=N            delay every reply by N ms\n"
       "  no-dtr-reset          do not restart when the host closes the port (auto-reset disabled)\n"
       "Otherwise closing the port (or the host dying) drops DTR and restarts the firmware.");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints the help, the version or the usage error
-    return code == 0 ? 0 : 2;      // usage errors exit 2, as the other programs'
-  }
+  if (auto stop = atelier::parse_command_line(app, argc, argv)) return *stop;
 
   const auto machine = ab::machine_from_name(machine_arg);
   if (!machine) {

@@ -36,6 +36,7 @@
 #include <condition_variable>
 #include <opencv2/imgcodecs.hpp>
 
+#include "base/cli_parse.h"
 #include "tools/emu/pty_link.h"
 #include "tools/laser_emu/controller.h"
 #include "tools/laser_emu/faults.h"
@@ -162,12 +163,7 @@ int main(int argc, char** argv) {
       "  stall-at-line=N         after answering line N, stop reading and answering\n"
       "  alarm-at-line=N[:CODE]  raise ALARM:CODE (default 1, hard limit) when line N is taken\n"
       "Closing the port (or the host dying) drops DTR: the board restarts at once, beam off.");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints the help, the version or the usage error
-    return code == 0 ? 0 : 2;      // usage errors exit 2, as the other programs'
-  }
+  if (auto stop = atelier::parse_command_line(app, argc, argv)) return *stop;
 
   le::Faults faults;
   for (const auto& spec : fault_specs) {
