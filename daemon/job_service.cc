@@ -312,6 +312,13 @@ void JobService::progress(int64_t id, int64_t done, int64_t total, const std::st
   if (job) on_change_({*job, state_name(job->state), state_name(job->state), what, true});
 }
 
+void JobService::progress_reason(int64_t id, int64_t done, int64_t total, const std::string& what) {
+  store_.set_progress(id, done, total, what);
+  if (!on_change_) return;
+  auto job = store_.get(id);
+  if (job) on_change_({*job, state_name(job->state), state_name(job->state), what, true});
+}
+
 void JobService::clean_partial_outputs(const Job& job) const {
   std::set<std::string> keep = {job.name, kClaimFile};
   for (const std::string& suffix : companion_suffixes()) keep.insert(job.name + suffix);

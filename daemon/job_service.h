@@ -96,6 +96,9 @@ class JobService {
 
   // Records progress (no event row; too frequent) and tells the listener, so `watch` shows it.
   void progress(int64_t id, int64_t done, int64_t total, const std::string& what);
+  // Progress whose `what` is also the job's reason (no event row), so `show` and `list` say
+  // what the running job waits for (e.g. the knitter's next step).
+  void progress_reason(int64_t id, int64_t done, int64_t total, const std::string& what);
 
   // A new reason without a state change (Store::note), told to the listener like a change.
   void note(int64_t id, const std::string& reason);

@@ -29,6 +29,16 @@ std::string resume_hint(int64_t id, int rows_done, const std::string& in_progres
          std::to_string(rows_done + 1);
 }
 
+// What the knitter is asked to do while the firmware waits for the carriage to pass a turn
+// mark (AYAB desktop: "Please start machine. (Set the carriage to mode KC-I or KC-II and move
+// the carriage over the left turn mark)."); a lace job may begin with the lace carriage.
+std::string turn_mark_prompt(const ayab::KnitPlan& plan, int from_pass) {
+  if (!plan.carriage.empty() && from_pass < static_cast<int>(plan.carriage.size()) &&
+      plan.carriage[static_cast<size_t>(from_pass)] == ayab::Carriage::lace)
+    return "move the lace carriage over the left turn mark";
+  return "move the carriage over the left turn mark (set it to KC-I or KC-II)";
+}
+
 // A lace chart the lace carriage cannot knit; what() is the job's failure reason.
 class CannotKnit : public BadInput {
  public:
@@ -227,7 +237,22 @@ void KnitDevice::knit(const Work& work) {
       if (cancel.load()) throw LinkLost("canceled before the machine was ready");
       waiting_link_ = link.get();
     }
+    const auto& starts = job_plan.row_start;
+    const int from_pass = starts[static_cast<size_t>(work.from_row - 1)];
+    const bool whole_rows = is_lace(job->kind);
+    const std::string row_word = whole_rows ? "chart row " : "row ";
+    // What the knitter should do now: the device's detail and the running job's reason.
+    auto say = [&](const std::string& what) {
+      set_detail(job_tag(id) + ": " + what);
+      jobs_.progress_reason(id, rows_done, total_rows, what);
+    };
     ayab::HostSession session(*link, timeouts_, clock_);
+    session.set_events({[&] { say(turn_mark_prompt(plan, from_pass)); },
+                        [&] {
+                          say("all " + std::to_string(total_rows) +
+                              " rows knitted; one more pass to finish: move the carriage across once more "
+                              "(the machine beeps twice)");
+                        }});
     session.connect();
     session.init(plan.machine);
     try {
@@ -247,38 +272,81 @@ void KnitDevice::knit(const Work& work) {
       waiting_link_ = nullptr;
     }
     knitting_started = true;
-    const auto& starts = job_plan.row_start;
-    const int from_pass = starts[static_cast<size_t>(work.from_row - 1)];
+    // Where the carriage is in the lace plan: "; next: lace carriage" after `passes_done`.
+    auto next_carriage = [&plan](int passes_done) -> std::string {
+      if (plan.carriage.empty() || passes_done >= static_cast<int>(plan.carriage.size())) return "";
+      return plan.carriage[static_cast<size_t>(passes_done)] == ayab::Carriage::lace ? "; next: lace carriage"
+                                                                                    : "; next: knit carriage";
+    };
+    say("knitting " + row_word + std::to_string(rows_done + 1) + " of " + std::to_string(total_rows) +
+        next_carriage(from_pass));
     // A lace row is transfers, then knitting: stopped between them, its stitches would sit
     // moved but unknitted, and resuming from that row would move them again. So a canceled
     // lace job stops where a chart row begins (the knitter finishes the row in hand). The
     // daemon stopping does not wait for that.
     std::atomic<bool> stop_at_row_start{cancel.load()};
-    const bool whole_rows = is_lace(job->kind);
-    session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
-      if (cancel.load() && (stopping() || std::binary_search(starts.begin(), starts.end(), p.passes_done)))
-        stop_at_row_start = true;
-      in_progress.clear();
-      if (whole_rows && !std::binary_search(starts.begin(), starts.end(), p.passes_done)) {
-        const auto next = std::upper_bound(starts.begin(), starts.end(), p.passes_done);
-        const int row = static_cast<int>(next - starts.begin());  // 1-based chart row in hand
-        in_progress = "chart row " + std::to_string(row) + " stopped after " +
-                      std::to_string(p.passes_done - *(next - 1)) + " of its " + std::to_string(*next - *(next - 1)) +
-                      " passes: its stitches may be moved but not knitted; put them back as " +
-                      (row == 1 ? std::string("the cast-on") : "chart row " + std::to_string(row - 1)) +
-                      " left them (or finish the row by hand and resume from row " +
-                      std::to_string(row + 1) + "); ";
+    try {
+      session.knit(plan, from_pass, [&](const ayab::KnitProgress& p) {
+        if (cancel.load() && (stopping() || std::binary_search(starts.begin(), starts.end(), p.passes_done)))
+          stop_at_row_start = true;
+        in_progress.clear();
+        if (whole_rows && !std::binary_search(starts.begin(), starts.end(), p.passes_done)) {
+          const auto next = std::upper_bound(starts.begin(), starts.end(), p.passes_done);
+          const int row = static_cast<int>(next - starts.begin());  // 1-based chart row in hand
+          in_progress = "chart row " + std::to_string(row) + " stopped after " +
+                        std::to_string(p.passes_done - *(next - 1)) + " of its " +
+                        std::to_string(*next - *(next - 1)) +
+                        " passes: its stitches may be moved but not knitted; put them back as " +
+                        (row == 1 ? std::string("the cast-on") : "chart row " + std::to_string(row - 1)) +
+                        " left them (or finish the row by hand and resume from row " + std::to_string(row + 1) +
+                        "); ";
+        }
+        // Rows whose every pass is done.
+        rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
+                                     (starts.begin() + 1));
+        if (rows_done < total_rows)
+          say("knitting " + row_word + std::to_string(rows_done + 1) + " of " + std::to_string(total_rows) +
+              next_carriage(p.passes_done));
+        else
+          say("knitted " + row_word + std::to_string(rows_done) + " of " + std::to_string(total_rows));
+      }, whole_rows ? stop_at_row_start : cancel);
+    } catch (const ayab::LineGarbled& e) {
+      // The pass knitted something else than planned: its row is not knitted as planned, and
+      // the firmware will not ask for another line. The knitter must undo that row.
+      const int row = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), e.pass) - starts.begin());
+      rows_done = row - 1;
+      link->close();
+      jobs_.transition(id, JobState::interrupted,
+                       row_word + std::to_string(row) + " was knitted from a line garbled on the cable (" + e.what() +
+                           "): stop the carriage, unravel that row" +
+                           (whole_rows ? " and put its stitches back as the row before left them" : "") +
+                           ", then continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
+                           std::to_string(row));
+      return;
+    } catch (const ayab::MachineSilent& e) {
+      // Firmware 1.0 hangs on a garbled SLIP escape until reset: reset it through DTR, so the
+      // knitter can resume without unplugging it.
+      log::info(std::string(e.what()) + "; resetting the board (DTR)", job_fields(*job));
+      link->pulse_dtr(kDtrResetPulse);
+      std::string after_reset = "atelier reset it";
+      try {
+        session.connect();
+      } catch (const std::exception&) {
+        after_reset = "atelier reset it, but it still does not answer: unplug it and plug it back";
       }
-      // Rows whose every pass is done.
-      rows_done = static_cast<int>(std::upper_bound(starts.begin() + 1, starts.end(), p.passes_done) -
-                                   (starts.begin() + 1));
-      std::string what = std::string(whole_rows ? "knitted chart row " : "knitted row ") +
-                         std::to_string(rows_done) + " of " + std::to_string(total_rows);
-      if (!plan.carriage.empty() && p.passes_done < static_cast<int>(plan.carriage.size()))
-        what += plan.carriage[static_cast<size_t>(p.passes_done)] == ayab::Carriage::lace ? "; next: lace carriage"
-                                                                                        : "; next: knit carriage";
-      jobs_.progress(id, rows_done, total_rows, what);
-    }, whole_rows ? stop_at_row_start : cancel);
+      link->close();
+      if (rows_done >= total_rows) {
+        jobs_.transition(id, JobState::completed,
+                         "knitted " + std::to_string(total_rows) + " rows on " + config_.name +
+                             "; the machine stopped answering before its last (empty) pass, and " + after_reset);
+      } else {
+        jobs_.transition(id, JobState::interrupted,
+                         "the knitting machine stopped answering after " + row_word + std::to_string(rows_done) +
+                             " (its firmware hung, e.g. on a byte garbled on the cable); " + after_reset + "; " +
+                             resume_hint(id, rows_done, in_progress));
+      }
+      return;
+    }
     link->close();
     if (cancel.load()) {
       end_early(id, rows_done, true, in_progress);

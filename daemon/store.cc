@@ -362,6 +362,14 @@ void Store::set_progress(int64_t id, int64_t done, int64_t total) {
   if (sqlite3_changes(db_) == 0) fail(db_, "no job " + std::to_string(id));
 }
 
+void Store::set_progress(int64_t id, int64_t done, int64_t total, const std::string& reason) {
+  set_progress(id, done, total);
+  std::lock_guard lock(mu_);
+  Stmt s(db_, "UPDATE jobs SET reason = ?1 WHERE id = ?2");
+  s.bind(1, reason).bind(2, id);
+  s.run();
+}
+
 std::optional<Job> Store::get(int64_t id) {
   std::lock_guard lock(mu_);
   Stmt s(db_, std::string("SELECT ") + kJobColumns + " FROM jobs WHERE id = ?1");

@@ -113,6 +113,9 @@ class Store {
 
   // Progress does not make an event (it changes too often).
   void set_progress(int64_t id, int64_t done, int64_t total);
+  // The same, and a new reason without an event (what a running job is doing now, e.g. the
+  // knitter's next step; too frequent for the history).
+  void set_progress(int64_t id, int64_t done, int64_t total, const std::string& reason);
 
   std::optional<Job> get(int64_t id);
   std::vector<Job> list(const JobFilter& filter);     // newest first (id descending)

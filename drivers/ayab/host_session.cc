@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "drivers/ayab/line_tracker.h"
+#include "drivers/ayab/pass_watch.h"
 
 namespace atelier::ayab {
 namespace {
@@ -27,6 +28,13 @@ std::string version_text(const CnfInfo& c) {
 
 // Upper bound of one blocking read, so "wait forever" never overflows a deadline.
 constexpr milliseconds kReadSlice{1000};
+
+// The firmware's answer to a request that reached it garbled (com.cpp: too short, bad CRC):
+// nothing was done, so asking again is safe.
+bool garbled_request(uint8_t error) { return error == err::too_short || error == err::bad_crc; }
+
+// Times a garbled reqStart is sent again before giving up.
+constexpr int kStartAttempts = 3;
 
 }  // namespace
 
@@ -106,6 +114,7 @@ void HostSession::init(MachineType machine) {
         reset_ = false;
         return;
       }
+      if (garbled_request(c->error)) break;  // it got our request garbled: ask again
       if (c->error != err::success)
         throw AyabError("the knitting machine refused initialisation as " + machine_name(machine) + ": " +
                         error_text(c->error));
@@ -114,6 +123,7 @@ void HostSession::init(MachineType machine) {
     }
   }
   reset_ = true;
+  if (events_.waiting_for_carriage) events_.waiting_for_carriage();
   wait_ready();
 }
 
@@ -148,16 +158,24 @@ void HostSession::wait_ready() {
 
 void HostSession::start(const KnitPlan& plan) {
   line_bytes_ = line_bytes(plan.machine);
-  const ReqStart request{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), false,
+  // Continuous reporting: an indState at every needle step, for PassWatch.
+  const ReqStart request{static_cast<uint8_t>(plan.start_needle), static_cast<uint8_t>(plan.stop_needle), true,
                          true};
   send(request);
-  const auto deadline = clock_.now() + timeouts_.reply;
+  int attempts = 1;
+  auto deadline = clock_.now() + timeouts_.reply;
   for (;;) {
     auto m = receive(deadline);
     if (!m)
       throw AyabError("the knitting machine did not answer the start request within " + seconds_text(timeouts_.reply));
     if (const auto* c = std::get_if<CnfStart>(&*m)) {
       if (c->error == err::success) break;
+      if (garbled_request(c->error) && attempts < kStartAttempts) {
+        ++attempts;  // the request reached it garbled and was not acted on
+        send(request);
+        deadline = clock_.now() + timeouts_.reply;
+        continue;
+      }
       if (c->error >= err::wrong_state && c->error <= 0xEF) {
         // Firmware 1.0 does not say which state it is in; what this session saw does.
         std::string state = error_text(c->error);
@@ -199,37 +217,57 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   started_ = false;  // a next knit() starts again
 
   LineTracker tracker;
+  PassWatch watch(plan.machine, plan.start_needle, plan.stop_needle);
   int done = from_pass;
   std::optional<CnfLine> last_sent;
-  bool ended = false;  // blank last line sent
+  bool ended = false;     // blank last line sent
+  bool canceled = false;  // ... because of `cancel`: its pass is not waited for
+  // The firmware ended a pass at an indState received then: its reqLine must come next.
+  std::optional<Clock::time_point> pass_ended_at;
   auto last_rx = clock_.now();
-  auto last_tx = last_rx;
+  auto garbled = [&]() -> LineGarbled {
+    const int pass = from_pass + tracker.expected() - 1;
+    return LineGarbled(pass, "the knitting machine did not ask for the line after line " +
+                                 std::to_string(tracker.expected() - 1) +
+                                 " at the end of its pass: that line reached it garbled and pass " +
+                                 std::to_string(pass + 1) + " was knitted from a wrong line");
+  };
   // A knitter may pause between rows for as long as they like, and the firmware says nothing
   // meanwhile. After `silent` without a word we ask for cnfInfo: a live machine answers it in
   // any state; only a machine that does not answer within `reply` is declared silent.
   std::optional<Clock::time_point> probe_until;
-  while (!ended) {
+  for (;;) {
+    // The end of a canceled job is not waited for; nor the last pass, when the firmware does
+    // not report the carriage (then it cannot be seen).
+    if (ended && (canceled || !watch.reporting())) break;
     const auto silent_at = probe_until ? *probe_until : last_rx + timeouts_.silent;
-    const auto deadline = last_sent ? std::min(silent_at, last_tx + timeouts_.line_resend) : silent_at;
+    const auto deadline = pass_ended_at ? std::min(silent_at, *pass_ended_at + timeouts_.pass_end) : silent_at;
     auto m = receive(deadline);
     const auto now = clock_.now();
     if (!m) {
+      if (pass_ended_at && now >= *pass_ended_at + timeouts_.pass_end) throw garbled();
       if (now >= silent_at) {
         if (probe_until)
-          throw AyabError("the knitting machine went silent after row " + std::to_string(rows_done(done)));
+          throw MachineSilent(done, "the knitting machine went silent after row " + std::to_string(rows_done(done)));
         send(ReqInfo{});
         probe_until = now + timeouts_.reply;
-        continue;
       }
-      // A cnfLine with a bad CRC is dropped without a word: say it again.
-      send(*last_sent);
-      last_tx = now;
       continue;
     }
     last_rx = now;
     probe_until.reset();
+    if (const auto* st = std::get_if<IndState>(&*m)) {
+      // A report after the one that ended the pass, and no reqLine between: none will come.
+      if (pass_ended_at) throw garbled();
+      if (watch.on_state(*st) && last_sent) {
+        if (ended) break;  // the blank line's pass: the firmware stops knitting here
+        pass_ended_at = now;
+      }
+      continue;
+    }
     const auto* req = std::get_if<ReqLine>(&*m);
-    if (!req) continue;  // indState, debug, stray confirmations
+    if (!req) continue;  // debug, stray confirmations
+    pass_ended_at.reset();
     if (req->error != err::success)
       throw AyabError("the knitting machine reported " + error_text(req->error) + " when asking for line " +
                       std::to_string(req->line));
@@ -239,9 +277,10 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
                       std::to_string(r.line & 0xFF));
     if (r.kind == LineTracker::Kind::repeat) {
       send(*last_sent);  // the firmware did not take our answer (e.g. wrong line number)
-      last_tx = now;
       continue;
     }
+    watch.line_requested();
+    if (ended) continue;  // asked for a line after the last: nothing more to knit
     // Asking for line k confirms that lines 0..k-1 of this session were knitted.
     if (r.line > 0) {
       done = from_pass + r.line;
@@ -254,13 +293,14 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
       line.last_line = true;  // blank: all needles unselected; the machine ends cleanly
       line.needles.assign(static_cast<size_t>(line_bytes_), 0);
       ended = true;
+      canceled = pass < total;
     } else {
       line.colour = plan.colour[static_cast<size_t>(pass)];
       line.needles = plan.passes[static_cast<size_t>(pass)];
     }
     send(line);
     last_sent = line;
-    last_tx = now;
+    if (ended && !canceled && events_.last_pass) events_.last_pass();
   }
 
   // reqInfo answered means the firmware has read everything before it, the last line included.

@@ -10,7 +10,9 @@
 
 #include "base/fake_clock.h"
 #include "drivers/ayab/host_session.h"
+#include "drivers/ayab/pass_watch.h"
 #include "drivers/simulated_transport.h"
+#include "tests/support/carriage_firmware.h"
 
 namespace atelier::ayab {
 namespace {
@@ -173,7 +175,7 @@ SessionTimeouts fast() {
   t.info_retry = 20ms;
   t.reply = 1000ms;
   t.ready = 5000ms;
-  t.line_resend = 100ms;
+  t.pass_end = 100ms;
   t.silent = 3000ms;
   return t;
 }
@@ -242,7 +244,7 @@ TEST(AyabHostSession, KnitsThreeHundredRowsAcrossTheLineNumberWrap) {
       start_seen = true;
       EXPECT_EQ(r->start_needle, plan.start_needle);
       EXPECT_EQ(r->stop_needle, plan.stop_needle);
-      EXPECT_FALSE(r->continuous_reporting);
+      EXPECT_TRUE(r->continuous_reporting);  // the carriage is followed (indState at every step)
       EXPECT_TRUE(r->beeper);
     }
   EXPECT_TRUE(start_seen);
@@ -291,26 +293,6 @@ TEST(AyabHostSession, NoAnswerAtAllNamesTheCableAndFirmware) {
                  "installed");
   }
   EXPECT_EQ(clock.now() - t0, 300ms);  // it gave up at the boot limit, not before or after
-}
-
-TEST(AyabHostSession, ResendsACnfLineTheFirmwareDropped) {
-  PeerScript script;
-  script.drop_first_copy_of = 3;
-  Rig rig(script);
-  HostSession& s = rig.s;
-  const ScriptedFirmware& peer = *rig.peer;
-  s.connect();
-  s.init(MachineType::kh930);
-  const KnitPlan plan = plan_of(8);
-  KnitRun run;
-  EXPECT_EQ(s.knit(plan, 0, run.callback(), run.cancel), 8);
-  const auto lines = peer.lines();
-  ASSERT_EQ(lines.size(), 9u);
-  for (int k = 0; k < 8; ++k) EXPECT_EQ(lines[k].needles, plan.passes[k]) << k;
-  int copies_of_3 = 0;
-  for (const auto& m : peer.received())
-    if (const auto* c = std::get_if<CnfLine>(&m); c && c->line == 3) ++copies_of_3;
-  EXPECT_GE(copies_of_3, 2);
 }
 
 TEST(AyabHostSession, AnswersARepeatedRequestWithTheSameLine) {
@@ -509,6 +491,172 @@ TEST(AyabHostSession, AKnitterMayTakeLongerThanTheSilenceLimitToReachTheTurnMark
   EXPECT_TRUE(s.was_reset());
   KnitRun run;
   EXPECT_EQ(s.knit(plan_of(2), 0, run.callback(), run.cancel), 2);
+}
+
+// A host session against the carriage-moving firmware (tests/support/carriage_firmware.h).
+struct CarriageRig {
+  explicit CarriageRig(test::CarriageScript script = {}, SessionTimeouts t = fast())
+      : peer(std::make_shared<test::CarriageFirmware>(script)), link(peer, clock), s(link, t, clock) {}
+  FakeClock clock;
+  std::shared_ptr<test::CarriageFirmware> peer;
+  SimulatedTransport link;
+  HostSession s;
+};
+
+// The needles of the working range of `plan`'s pass `p`, as the firmware records them.
+std::string pass_needles(const KnitPlan& plan, size_t p) {
+  std::string out;
+  for (int n = plan.start_needle; n <= plan.stop_needle; ++n) out.push_back(needle_selected(plan.passes[p], n) ? '1' : '0');
+  return out;
+}
+
+TEST(AyabHostSession, EachLineGoesOutOnceEvenWhenTheCarriageIsSlowAndTheLastPassIsWaitedFor) {
+  // A pass takes seconds here, far longer than any re-send window: a re-sent line could only
+  // replace a good copy with a garbled one, so each line goes out once.
+  test::CarriageScript script;
+  script.step = 20ms;
+  CarriageRig rig(script);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(6);
+  KnitRun run;
+  EXPECT_EQ(rig.s.knit(plan, 0, run.callback(), run.cancel), 6);
+  for (int k = 0; k <= 6; ++k) EXPECT_EQ(rig.peer->copies_of(k), 1) << "line " << k;
+  // The knit ended after the carriage made the blank last line's pass, not before.
+  const auto& passes = rig.peer->passes();
+  ASSERT_EQ(passes.size(), 7u);
+  for (size_t p = 0; p < 6; ++p) EXPECT_EQ(passes[p], pass_needles(plan, p)) << "pass " << p;
+  EXPECT_EQ(passes[6], std::string(40, '0'));
+  EXPECT_EQ(rig.peer->state(), FsmState::init);
+}
+
+TEST(AyabHostSession, AGarbledLineIsNeverCountedAsKnittedAndNamesThePass) {
+  // Line 3 reaches the firmware garbled: it is in the needle buffer (copied before the CRC
+  // check), the carriage knits it, and at the end of that pass the firmware asks for nothing.
+  test::CarriageScript script;
+  script.garble_first_copy_of = 3;
+  CarriageRig rig(script);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(8);
+  KnitRun run;
+  try {
+    rig.s.knit(plan, 0, run.callback(), run.cancel);
+    FAIL() << "expected LineGarbled";
+  } catch (const LineGarbled& e) {
+    EXPECT_EQ(e.pass, 3);
+    EXPECT_NE(std::string(e.what()).find("pass 4 was knitted from a wrong line"), std::string::npos) << e.what();
+  }
+  ASSERT_FALSE(run.progress.empty());
+  EXPECT_EQ(run.progress.back().passes_done, 3) << "the garbled pass was counted as knitted";
+  const auto& passes = rig.peer->passes();
+  ASSERT_GE(passes.size(), 4u);
+  EXPECT_NE(passes[3], pass_needles(plan, 3)) << "the firmware model did not knit the garbled line";
+  EXPECT_EQ(rig.peer->copies_of(3), 1) << "no blind re-send";
+  EXPECT_EQ(passes.size(), 4u) << "the session stopped at the end of the garbled pass";
+}
+
+TEST(AyabHostSession, AGarbledInitOrStartRequestIsAskedAgain) {
+  // Firmware 1.0 answers a reqInit / reqStart whose CRC is bad with 0x04 and does nothing.
+  test::CarriageScript script;
+  script.init_garbled = 1;
+  script.start_garbled = 2;
+  CarriageRig rig(script);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(3);
+  KnitRun run;
+  EXPECT_EQ(rig.s.knit(plan, 0, run.callback(), run.cancel), 3);
+  EXPECT_EQ(rig.peer->passes().size(), 4u);
+}
+
+TEST(AyabHostSession, TellsWhenToMoveTheCarriageAndWhenOneMorePassIsLeft) {
+  CarriageRig rig;
+  std::vector<std::string> said;
+  rig.s.set_events({[&] { said.push_back("turn mark (state " + state_name(rig.peer->state()) + ")"); },
+                    [&] { said.push_back("last pass after " + std::to_string(rig.peer->passes().size())); }});
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(3);
+  std::atomic<bool> cancel{false};
+  rig.s.knit(plan, 0, [&](const KnitProgress& p) { said.push_back("pass " + std::to_string(p.passes_done)); },
+             cancel);
+  // The prompt comes while the firmware waits for the turn mark; the last pass is announced
+  // when the last row is done and before the carriage makes it.
+  EXPECT_EQ(said, (std::vector<std::string>{"turn mark (state init)", "pass 1", "pass 2", "pass 3", "last pass after 3"}));
+  EXPECT_EQ(rig.peer->passes().size(), 4u);
+}
+
+TEST(AyabHostSession, AHungBoardIsReportedSilentWithThePassesDone) {
+  test::CarriageScript script;
+  script.hang_at_line = 4;
+  SessionTimeouts t = fast();
+  t.silent = 400ms;
+  CarriageRig rig(script, t);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  KnitRun run;
+  try {
+    rig.s.knit(plan_of(8), 0, run.callback(), run.cancel);
+    FAIL() << "expected MachineSilent";
+  } catch (const MachineSilent& e) {
+    EXPECT_EQ(e.passes_done, 4);
+    EXPECT_STREQ(e.what(), "the knitting machine went silent after row 4");
+  }
+}
+
+TEST(AyabHostSession, AKnitterPausingMidPatternWithTheCarriageReportedIsNotAGarbledLine) {
+  test::CarriageScript script;
+  script.pause_after_pass = 1;
+  script.pause = 2000ms;
+  SessionTimeouts t = fast();
+  t.silent = 400ms;
+  CarriageRig rig(script, t);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(4);
+  KnitRun run;
+  EXPECT_EQ(rig.s.knit(plan, 0, run.callback(), run.cancel), 4);
+  ASSERT_EQ(rig.peer->passes().size(), 5u);
+  for (size_t p = 0; p < 4; ++p) EXPECT_EQ(rig.peer->passes()[p], pass_needles(plan, p));
+}
+
+TEST(AyabPassWatch, PixelsFollowFirmware10sOffsets) {
+  // encoders.h START_OFFSET: moving right the left offset (K 42, L 32), moving left the right
+  // one (K 16, L 24); below 0 it wraps by 256 (KH-270: 252, offsets 34 / 22).
+  EXPECT_EQ(firmware_pixel(MachineType::kh930, 100, Direction::right, Carriage::knit), 58);
+  EXPECT_EQ(firmware_pixel(MachineType::kh930, 100, Direction::left, Carriage::knit), 84);
+  EXPECT_EQ(firmware_pixel(MachineType::kh930, 100, Direction::right, Carriage::lace), 68);
+  EXPECT_EQ(firmware_pixel(MachineType::kh910, 100, Direction::left, Carriage::lace), 76);
+  EXPECT_EQ(firmware_pixel(MachineType::kh930, 10, Direction::right, Carriage::knit), 224);
+  EXPECT_EQ(firmware_pixel(MachineType::kh270, 10, Direction::right, Carriage::knit), 228);
+  EXPECT_EQ(firmware_pixel(MachineType::kh270, 50, Direction::left, Carriage::knit), 28);
+  EXPECT_FALSE(firmware_pixel(MachineType::kh930, 100, Direction::unknown, Carriage::knit).has_value());
+  EXPECT_EQ(firmware_pixel(MachineType::kh930, 100, Direction::right, Carriage::none), 100);
+}
+
+TEST(AyabPassWatch, APassEndsThirteenNeedlesPastTheRangeOnEitherSide) {
+  PassWatch w(MachineType::kh930, 80, 119);
+  auto at = [](int pos, Direction d) {
+    IndState s;
+    s.state = FsmState::knit;
+    s.carriage = Carriage::knit;
+    s.position = static_cast<uint8_t>(pos);
+    s.direction = d;
+    return s;
+  };
+  // Moving right: needle = position - 42. Outside the range before working on it: no end.
+  EXPECT_FALSE(w.on_state(at(60, Direction::right)));  // needle 18
+  EXPECT_FALSE(w.on_state(at(122, Direction::right)));  // needle 80: in
+  EXPECT_FALSE(w.on_state(at(173, Direction::right)));  // needle 131: 12 past
+  EXPECT_TRUE(w.on_state(at(174, Direction::right)));   // needle 132: 13 past, the end
+  EXPECT_FALSE(w.on_state(at(175, Direction::right)));  // once per pass
+  w.line_requested();
+  // Back to the left and out again on the side it came from: moving left, needle = position - 16.
+  EXPECT_FALSE(w.on_state(at(130, Direction::left)));  // needle 114
+  EXPECT_FALSE(w.on_state(at(84, Direction::left)));   // needle 68: 12 past
+  EXPECT_TRUE(w.on_state(at(83, Direction::left)));    // needle 67
+  EXPECT_TRUE(w.reporting());
 }
 
 }  // namespace
