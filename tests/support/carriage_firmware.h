@@ -5,6 +5,7 @@
 // - cnfLine: the needle bytes go into the buffer BEFORE the CRC is checked; a bad CRC is
 //   dropped without a word; a good copy of the requested line is accepted; a good copy of
 //   another line gets reqLine(current) again.
+// - the carriage sweeps positions 60..200, so the working range must lie within needles 57..145;
 // - with continuous reporting, an indState (state knit, position 0..255, direction) at every
 //   step of the carriage; a pass ends at the first needle 13 past the working range after a
 //   needle inside it (needle = position - 42 moving right, - 16 moving left); then reqLine(n+1)
@@ -86,7 +87,8 @@ class CarriageFirmware : public SimulatedPeer {
   }
 
  private:
-  static constexpr int kStart = 80, kStop = 119;  // the plans of the tests: 40 needles centred
+  // The carriage sweeps positions 60..200: working ranges within needles 57..145.
+  int start_ = 0, stop_ = 0;
   void send(const ayab::Message& m) {
     const ayab::Bytes f = ayab::slip_encode(ayab::encode(m));
     out_.insert(out_.end(), f.begin(), f.end());
@@ -160,6 +162,8 @@ class CarriageFirmware : public SimulatedPeer {
         return;
       }
       continuous_ = s->continuous_reporting;
+      start_ = s->start_needle;
+      stop_ = s->stop_needle;
       state_ = ayab::FsmState::knit;
       send(ayab::CnfStart{0});
       line_ = 0;
@@ -199,11 +203,11 @@ class CarriageFirmware : public SimulatedPeer {
     if (position_ <= 60) right_ = true;
     if (continuous_) send_state();
     const int needle = position_ - (right_ ? 42 : 16);
-    if (needle >= kStart && needle <= kStop) worked_ = true;
-    if (!worked_ || (needle >= kStart - 12 && needle <= kStop + 12)) return;
+    if (needle >= start_ && needle <= stop_) worked_ = true;
+    if (!worked_ || (needle >= start_ - 12 && needle <= stop_ + 12)) return;
     worked_ = false;
     std::string knitted;
-    for (int n = kStart; n <= kStop; ++n) knitted.push_back(ayab::needle_selected(buffer_, n) ? '1' : '0');
+    for (int n = start_; n <= stop_; ++n) knitted.push_back(ayab::needle_selected(buffer_, n) ? '1' : '0');
     passes_.push_back(knitted);
     if (!requested_ && !last_) {
       ++line_;

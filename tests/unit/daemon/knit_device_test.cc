@@ -19,6 +19,7 @@
 #include "drivers/ayab/knit_plan.h"
 #include "drivers/ayab/lace_plan.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/support/carriage_firmware.h"
 #include "tests/support/job_watch.h"
 #include "tests/support/lace_test_charts.h"
 #include "tests/support/log_capture.h"
@@ -40,7 +41,22 @@ struct JobOnDevice {
   Store store{tmp.path() / "jobs.sqlite"};
   FakeClock clock;
   test::JobWatch watch{clock};
-  JobService jobs{store, layout, watch.listener()};
+  // What the job's reason and the device's detail said, in order (each change and progress).
+  struct Said {
+    std::string reason, detail;
+  };
+  std::mutex said_mu;
+  std::vector<Said> said;
+  const DeviceWorker* device_now = nullptr;
+  JobService jobs{store, layout, [this, forward = watch.listener()](const JobChange& c) {
+    {
+      std::lock_guard lock(said_mu);
+      const std::string detail = device_now ? device_now->describe().value("detail", "") : "";
+      if (said.empty() || said.back().reason != c.job.reason || said.back().detail != detail)
+        said.push_back({c.job.reason, detail});
+    }
+    forward(c);
+  }};
   int64_t id = 0;
 
   // A job of `kind` in `state` whose output folder `write_outputs` fills.
@@ -86,6 +102,42 @@ struct JobOnDevice {
   }
 };
 
+// The same on a machine behind `open` (a fresh board each time, e.g. CarriageFirmware).
+Job run_on(JobOnDevice& rig, const KnitDevice::Opener& open, int resume_from = 0) {
+  DeviceConfig d;
+  d.name = "knitter";
+  d.driver = "ayab";
+  d.port = "/dev/ttyKNIT";
+  d.machine = "kh930";
+  d.kinds = {"knit", "lace"};
+  d.autostart = true;
+  KnitDevice device(d, rig.jobs, open, [port = d.port]() -> std::optional<std::string> { return port; }, {},
+                    rig.clock);
+  rig.device_now = &device;
+  if (resume_from > 0) device.resume(rig.id, resume_from);
+  device.start_worker();
+  device.wake();
+  EXPECT_TRUE(rig.watch.wait_left(rig.id, JobState::running)) << "the device did not finish the job";
+  device.stop();
+  rig.device_now = nullptr;
+  return *rig.store.get(rig.id);
+}
+
+// Boards that boot afresh on each open (an Uno resets when its port opens), each following
+// `script`; the latest is last.
+struct Boards {
+  explicit Boards(FakeClock& c) : clock(c) {}
+  FakeClock& clock;
+  test::CarriageScript script;
+  std::vector<std::shared_ptr<test::CarriageFirmware>> boards;
+  KnitDevice::Opener opener() {
+    return [this](const std::string&) -> std::unique_ptr<Transport> {
+      boards.push_back(std::make_shared<test::CarriageFirmware>(script));
+      return std::make_unique<SimulatedTransport>(boards.back(), clock);
+    };
+  }
+};
+
 // A ready lace job (chart.json in its output folder) on the device.
 struct LaceJobOnDevice : JobOnDevice {
   LaceJobOnDevice(const Chart& chart, int cast_on, int wide, int high, JobState state = JobState::ready)
@@ -118,6 +170,102 @@ std::vector<std::string> pass_lines(const KnitPlan& plan, size_t from_pass = 0) 
     out.push_back(line);
   }
   return out;
+}
+
+// The plan the device makes of knit_pattern(rows).
+KnitPlan knit_job_plan(int rows) {
+  cv::Mat stitches = knit_pattern(rows) < 128;
+  stitches /= 255;
+  return plan_knitting(stitches, PlanParams{});
+}
+
+TEST(AyabKnitPrompts, TheKnitterIsToldWhatToDoInOrderAndTheJobEndsAfterTheLastPass) {
+  KnitJobOnDevice rig(3);
+  Boards boards{rig.clock};
+  const Job job = run_on(rig, boards.opener());
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  const std::string tag = "job " + std::to_string(rig.id) + ": ";
+  std::vector<std::string> reasons;
+  for (const auto& s : rig.said) {
+    reasons.push_back(s.reason);
+    if (s.reason.rfind("knitting on", 0) != 0 && s.reason.rfind("knitted 3 rows", 0) != 0) {
+      EXPECT_EQ(s.detail, tag + s.reason) << "the device says what the job says";
+    }
+  }
+  const std::string one_more =
+      "all 3 rows knitted; one more pass to finish: move the carriage across once more (the machine beeps twice)";
+  EXPECT_EQ(reasons, (std::vector<std::string>{"knitting on knitter",
+                                               "move the carriage over the left turn mark (set it to KC-I or KC-II)",
+                                               "knitting row 1 of 3", "knitting row 2 of 3", "knitting row 3 of 3",
+                                               "knitted row 3 of 3", one_more, "knitted 3 rows on knitter"}));
+  // Completed once the carriage made the blank line's pass, not when the line was sent.
+  ASSERT_EQ(boards.boards.size(), 1u);
+  EXPECT_EQ(boards.boards[0]->passes().size(), 4u);
+  EXPECT_EQ(boards.boards[0]->state(), FsmState::init);
+}
+
+TEST(AyabKnitGarbledLine, ARowKnittedFromAGarbledLineInterruptsTheJobNamingItAndResumeFinishes) {
+  KnitJobOnDevice rig(5);
+  Boards boards{rig.clock};
+  boards.script.garble_first_copy_of = 2;  // row 3
+  Job job = run_on(rig, boards.opener());
+  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
+  EXPECT_EQ(job.progress_done, 2) << "the garbled row was counted as knitted";
+  EXPECT_THAT(job.reason, ::testing::StartsWith("row 3 was knitted from a line garbled on the cable"));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("unravel that row, then continue with: atelierctl resume " +
+                                               std::to_string(rig.id) + " --from-row 3"));
+  const KnitPlan plan = knit_job_plan(5);
+  const auto want = pass_lines(plan);
+  ASSERT_EQ(boards.boards.size(), 1u);
+  const auto& first = boards.boards[0]->passes();
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(first.begin(), first.begin() + 2), std::vector<std::string>(want.begin(), want.begin() + 2));
+  EXPECT_NE(first[2], want[2]);
+
+  boards.script.garble_first_copy_of = -1;
+  job = run_on(rig, boards.opener(), 3);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  ASSERT_EQ(boards.boards.size(), 2u);
+  auto second = boards.boards[1]->passes();
+  ASSERT_EQ(second.size(), 4u);  // rows 3..5 and the blank pass
+  second.pop_back();
+  EXPECT_EQ(second, pass_lines(plan, 2));
+}
+
+TEST(AyabKnitHungBoard, AHungBoardIsResetThroughDtrAndResumeWorksWithoutAReplug) {
+  KnitJobOnDevice rig(6);
+  Boards boards{rig.clock};
+  boards.script.hang_at_line = 3;  // asking for row 4: rows 1..3 are knitted
+  Job job = run_on(rig, boards.opener());
+  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
+  EXPECT_EQ(job.progress_done, 3);
+  EXPECT_EQ(job.reason, "the knitting machine stopped answering after row 3 (its firmware hung, e.g. on a byte "
+                        "garbled on the cable); atelier reset it; continue with: atelierctl resume " +
+                            std::to_string(rig.id) + " --from-row 4");
+  ASSERT_EQ(boards.boards.size(), 1u);
+  EXPECT_EQ(boards.boards[0]->dtr_pulses(), 1);
+  EXPECT_FALSE(boards.boards[0]->hung()) << "the reset did not bring the board back";
+
+  boards.script.hang_at_line = -1;
+  job = run_on(rig, boards.opener(), 4);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  auto second = boards.boards.back()->passes();
+  ASSERT_EQ(second.size(), 4u);
+  second.pop_back();
+  EXPECT_EQ(second, pass_lines(knit_job_plan(6), 3));
+}
+
+TEST(AyabKnitHungBoard, ABoardStillHungAfterTheResetSaysToUnplugIt) {
+  KnitJobOnDevice rig(6);
+  Boards boards{rig.clock};
+  boards.script.hang_at_line = 2;
+  boards.script.hang_survives_reset = true;
+  const Job job = run_on(rig, boards.opener());
+  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("stopped answering after row 2"));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("atelier reset it, but it still does not answer: unplug it and plug "
+                                               "it back; continue with: atelierctl resume " +
+                                               std::to_string(rig.id) + " --from-row 3"));
 }
 
 TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens) {
