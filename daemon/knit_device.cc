@@ -315,10 +315,12 @@ void KnitDevice::knit(const Work& work) {
       // the firmware will not ask for another line. The knitter must undo that row.
       const int row = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), e.pass) - starts.begin());
       rows_done = row - 1;
+      log::info(e.what(), job_fields(*job));
       link->close();
       jobs_.transition(id, JobState::interrupted,
-                       row_word + std::to_string(row) + " was knitted from a line garbled on the cable (" + e.what() +
-                           "): stop the carriage, unravel that row" +
+                       row_word + std::to_string(row) +
+                           " was knitted from a line garbled on the cable (the machine did not ask for the next "
+                           "line after it): stop the carriage, unravel that row" +
                            (whole_rows ? " and put its stitches back as the row before left them" : "") +
                            ", then continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
                            std::to_string(row));

@@ -33,6 +33,9 @@ constexpr milliseconds kReadSlice{1000};
 // nothing was done, so asking again is safe.
 bool garbled_request(uint8_t error) { return error == err::too_short || error == err::bad_crc; }
 
+// How often a cancel is looked at while the session waits for the last pass.
+constexpr milliseconds kCancelPoll{500};
+
 // Times a garbled reqStart is sent again before giving up.
 constexpr int kStartAttempts = 3;
 
@@ -241,7 +244,12 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     // not report the carriage (then it cannot be seen).
     if (ended && (canceled || !watch.reporting())) break;
     const auto silent_at = probe_until ? *probe_until : last_rx + timeouts_.silent;
-    const auto deadline = pass_ended_at ? std::min(silent_at, *pass_ended_at + timeouts_.pass_end) : silent_at;
+    auto deadline = pass_ended_at ? std::min(silent_at, *pass_ended_at + timeouts_.pass_end) : silent_at;
+    // Waiting for the last pass, which the knitter may never make: a cancel ends the wait.
+    if (ended) {
+      if (cancel.load()) break;
+      deadline = std::min(deadline, clock_.now() + kCancelPoll);
+    }
     auto m = receive(deadline);
     const auto now = clock_.now();
     if (!m) {
