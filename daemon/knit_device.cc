@@ -254,7 +254,20 @@ void KnitDevice::knit(const Work& work) {
                               "(the machine beeps twice)");
                         }});
     session.connect();
-    session.init(plan.machine);
+    try {
+      session.init(plan.machine);
+    } catch (const ayab::MachineSilent& e) {
+      // Hung while the knitter was to move the carriage (e.g. a garbled byte): reset it once.
+      log::info(std::string(e.what()) + "; resetting the board (DTR) and trying once more", job_fields(*job));
+      link->pulse_dtr(kDtrResetPulse);
+      try {
+        session.connect();
+        session.init(plan.machine);
+      } catch (const ayab::AyabError& again) {
+        throw ayab::AyabError(std::string(again.what()) +
+                              "; atelier reset it, but it still does not answer: unplug it and plug it back");
+      }
+    }
     try {
       session.start(plan);
     } catch (const ayab::StartRefused& e) {

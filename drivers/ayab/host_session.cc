@@ -146,7 +146,7 @@ void HostSession::wait_ready() {
         throw AyabError("the knitting machine did not become ready within " + seconds_text(timeouts_.ready) +
                         ": move the carriage across the turn mark");
       if (probe_until)
-        throw AyabError("the knitting machine stopped answering while waiting for the carriage to cross the turn "
+        throw MachineSilent(0, "the knitting machine stopped answering while waiting for the carriage to cross the turn "
                         "mark (no answer to an info request within " + seconds_text(timeouts_.reply) + ")");
       send(ReqInfo{});
       probe_until = now + timeouts_.reply;

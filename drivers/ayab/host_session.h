@@ -65,8 +65,8 @@ class LineGarbled : public AyabError {
   int pass;
 };
 
-// The machine stopped answering (not even a reqInfo) while knitting; passes before `passes_done`
-// were knitted. Firmware 1.0 hangs like this on a garbled SLIP escape until the board is reset.
+// The machine stopped answering (not even a reqInfo) while knitting, or while init() waited for
+// the carriage (passes_done 0); passes before `passes_done` were knitted. Firmware 1.0 hangs like this on a garbled SLIP escape until the board is reset.
 class MachineSilent : public AyabError {
  public:
   MachineSilent(int passes_done, const std::string& message) : AyabError(message), passes_done(passes_done) {}

@@ -36,6 +36,7 @@ struct CarriageScript {
   std::chrono::milliseconds turn_mark{100};     // after cnfInit, the carriage passes the turn mark
   int garble_first_copy_of = -1;                // session line whose first cnfLine arrives garbled
   int hang_at_line = -1;                        // hang when asking for this session line
+  bool hang_before_ready = false;               // hang right after cnfInit (before the turn mark)
   bool hang_survives_reset = false;             // the hang needs a power cycle
   int init_garbled = 0;                         // cnfInit(0x04) this many times first
   int start_garbled = 0;                        // cnfStart(0x04) this many times first
@@ -81,6 +82,7 @@ class CarriageFirmware : public SimulatedPeer {
     auto lines = std::move(cnf_lines_);
     *this = CarriageFirmware(script);  // a fresh boot, wait-for-machine
     script_.hang_at_line = -1;
+    script_.hang_before_ready = false;
     dtr_pulses_ = pulses;
     passes_ = std::move(passes);
     cnf_lines_ = std::move(lines);
@@ -150,7 +152,8 @@ class CarriageFirmware : public SimulatedPeer {
       }
       state_ = ayab::FsmState::init;
       send(ayab::CnfInit{0});
-      ready_at_ = now + script_.turn_mark;
+      if (script_.hang_before_ready) hung_ = true;
+      else ready_at_ = now + script_.turn_mark;
     } else if (const auto* s = std::get_if<ayab::ReqStart>(&*r.message)) {
       if (script_.start_garbled > 0) {
         --script_.start_garbled;

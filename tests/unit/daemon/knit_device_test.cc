@@ -255,6 +255,17 @@ TEST(AyabKnitHungBoard, AHungBoardIsResetThroughDtrAndResumeWorksWithoutAReplug)
   EXPECT_EQ(second, pass_lines(knit_job_plan(6), 3));
 }
 
+TEST(AyabKnitHungBoard, ABoardThatHangsBeforeTheCarriageCrossesTheTurnMarkIsResetAndKnits) {
+  KnitJobOnDevice rig(3);
+  Boards boards{rig.clock};
+  boards.script.hang_before_ready = true;
+  const Job job = run_on(rig, boards.opener());
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  ASSERT_EQ(boards.boards.size(), 1u);
+  EXPECT_EQ(boards.boards[0]->dtr_pulses(), 1);
+  EXPECT_EQ(boards.boards[0]->passes().size(), 4u);
+}
+
 TEST(AyabKnitHungBoard, ABoardStillHungAfterTheResetSaysToUnplugIt) {
   KnitJobOnDevice rig(6);
   Boards boards{rig.clock};
