@@ -267,6 +267,8 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     if (const auto* st = std::get_if<IndState>(&*m)) {
       // A report after the one that ended the pass, and no reqLine between: none will come.
       if (pass_ended_at) throw garbled();
+      // Out of the knit state after the last line: the firmware has stopped knitting.
+      if (ended && st->state != FsmState::knit) break;
       if (watch.on_state(*st) && last_sent) {
         if (ended) break;  // the blank line's pass: the firmware stops knitting here
         pass_ended_at = now;
