@@ -1,7 +1,8 @@
-// atelier-knit-emu: the AYAB v6 firmware on a Brother KH-9xx / KH-270, on a pseudo-terminal.
+// atelier-knit-emu: AYAB firmware 1.0.0 (API v6) on a Brother KH-9xx / KH-270, on a
+// pseudo-terminal, with a simulated knitter pushing the carriage.
 //
 //   atelier-knit-emu --machine kh930|kh910|kh270 --link PATH [--record FILE] [--row-ms N]
-//                    [--boot-ms N] [--fault SPEC ...] [--verbose]
+//                    [--boot-ms N] [--fw-suffix TEXT] [--fault SPEC ...] [--verbose]
 //
 // The firmware model (tools/knit_emu/firmware.h) runs on a real-time clock (ms since start);
 // this file only wires it to a pty and implements the link faults. On start it prints
@@ -9,16 +10,19 @@
 // "atelier-knit-emu: DTR dropped" each time the host goes away; SIGTERM/SIGINT remove the
 // link and exit 0. --fault specs are listed in tools/knit_emu/faults.h.
 //
+// The record (--record FILE): one line of 0/1 per pass over the working range, the needles the
+// carriage actually selected (firmware.h says which passes), appended as they are knitted.
 // drop-after-row=N: the reply that confirms row N (the next reqLine) is still written (and up to
 // 1 s is given for the host to read it), then
 // the pty is closed and the link removed; after replug-ms a new pty appears at the same path
 // with a freshly booted firmware (boot delay included), like a replugged Arduino. The record
 // file keeps appending and rows keep their numbering.
-// Boot: the first byte received counts as the open (the Arduino reset); input during the next
-// --boot-ms is lost.
-// DTR: when the last host descriptor on the pty closes (the host closed the port, or was
-// killed) the Arduino restarts - a fresh firmware, back in wait-for-machine with the carriage
-// and solenoids idle - unless --fault no-dtr-reset (tools/emu/pty_link.h for the detection).
+// Reset: an Uno resets when a host OPENS the port: DTR rises (the tty asserts it on open), and
+// the falling edge of DTR# through the auto-reset capacitor pulls RESET low. Closing drops DTR
+// (HUPCL), which the capacitor passes as a rising edge: no reset. So each open is a fresh
+// firmware that loses what arrives in its first --boot-ms (default 1000, the bootloader), back
+// in wait-for-machine with the carriage where it was; unless --fault no-dtr-reset, when the next
+// host finds the firmware as the last one left it. tools/emu/pty_link.h detects open and close.
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
@@ -68,15 +72,17 @@ void log_traffic(ab::SlipDecoder& dec, const ab::Bytes& bytes, ab::MachineType m
 
 int main(int argc, char** argv) {
   CLI::App app{"AYAB v6 knitting-machine emulator on a pseudo-terminal"};
-  std::string machine_arg, link_path, record_path;
-  int64_t row_ms = 2000, boot_ms = 2000;
+  std::string machine_arg, link_path, record_path, suffix;
+  int64_t row_ms = 2000, boot_ms = 1000;
   std::vector<std::string> fault_specs;
   bool verbose = false;
   app.add_option("--machine", machine_arg, "kh930, kh910 or kh270")->required();
   app.add_option("--link", link_path, "symlink to create for the pty slave")->required();
   app.add_option("--record", record_path, "append each knitted row (0/1 per needle) to FILE");
   app.add_option("--row-ms", row_ms, "carriage pass time in ms (0: instant, for benchmarks)")->check(CLI::NonNegativeNumber);
-  app.add_option("--boot-ms", boot_ms, "input ignored this long after the port is opened")->check(CLI::NonNegativeNumber);
+  app.add_option("--boot-ms", boot_ms, "input lost this long after the port is opened (the board resets; default 1000)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--fw-suffix", suffix, "firmware version suffix in cnfInfo (release firmware: none)");
   app.add_option("--fault", fault_specs, "fault to inject (repeatable); see the list below");
   app.add_flag("--verbose", verbose, "log protocol traffic to stderr");
   app.set_version_flag("--version", "atelier-knit-emu " ATELIER_VERSION, "print \"atelier-knit-emu VERSION\" and exit");
@@ -87,11 +93,18 @@ int main(int argc, char** argv) {
       "  replug-ms=M           replug delay on its own\n"
       "  corrupt=F             corrupt a fraction F in [0,1] of the received bytes\n"
       "  seed=S                seed of the corruption (default 1)\n"
+      "  corrupt-line=N        the Nth cnfLine received arrives with a needle byte broken (bad CRC:\n"
+      "                        the garbled line stays in the buffer, as on firmware 1.0)\n"
+      "  bad-escape-after-row=N  after row N the next byte received is SLIP ESC + an invalid byte:\n"
+      "                        the firmware hangs until it is reset\n"
       "  silent-after-row=N    answer nothing after row N\n"
       "  api=V                 report API version V in cnfInfo (e.g. 5)\n"
       "  delay-ms=N            delay every reply by N ms\n"
-      "  no-dtr-reset          do not restart when the host closes the port (auto-reset disabled)\n"
-      "Otherwise closing the port (or the host dying) drops DTR and restarts the firmware.");
+      "  no-dtr-reset          do not reset when a host opens the port (auto-reset disabled)\n"
+      "  knitter-pause-ms=M    the knitter pushes the next pass M ms after the beep (default 10)\n"
+      "  knitter-patience-ms=M with no beep, the knitter pushes after M ms (default 2 x row-ms)\n"
+      "  impatient-knitter     the knitter pushes pause ms after each pass, beep or not\n"
+      "Otherwise the board resets each time a host opens the port (DTR) and loses --boot-ms of input.");
   if (auto stop = atelier::parse_command_line(app, argc, argv)) return *stop;
 
   const auto machine = ab::machine_from_name(machine_arg);
@@ -131,18 +144,23 @@ int main(int argc, char** argv) {
     }
     if (faults.drop_after_row && row.number == *faults.drop_after_row) drop_pending = true;
   };
+  std::unique_ptr<PtyLink> link;
+  std::unique_ptr<Firmware> fw;
+  // Power-on or reset: a fresh firmware; the carriage stays where it was, counts go on.
   auto boot_firmware = [&] {
     FirmwareOptions opt;
     opt.machine = *machine;
     opt.row_ms = row_ms;
     opt.boot_ms = boot_ms;
     opt.rows_before = rows_total;
+    opt.suffix = suffix;
     opt.faults = faults;
+    if (fw) {
+      opt.cnf_lines_before = fw->cnf_lines_received();
+      opt.carriage_position = fw->carriage_position();
+    }
     return std::make_unique<Firmware>(opt, on_row, clock_ms());
   };
-
-  std::unique_ptr<PtyLink> link;
-  std::unique_ptr<Firmware> fw;
   try {
     link = std::make_unique<PtyLink>(link_path);
   } catch (const std::exception& e) {
@@ -160,20 +178,17 @@ int main(int argc, char** argv) {
   // host this often instead.
   constexpr int64_t kLookForHostMs = 2;
   bool connected = false;  // a host has the slave open (DTR up)
-  // The host closed the port or died: DTR dropped. The Arduino restarts (a fresh firmware:
-  // wait-for-machine, carriage and solenoids idle) unless its auto-reset is not wired.
+  // The host closed the port or died: DTR dropped. No reset yet: that comes when the next
+  // host opens the port (see the top of this file). What the firmware sends meanwhile is lost.
   auto hang_up = [&] {
     connected = false;
     pending.clear();  // nobody to send it to
-    if (faults.dtr_reset) {
-      fw = boot_firmware();
-      log_in = ab::SlipDecoder{};
-      log_out = ab::SlipDecoder{};
-      std::cout << "atelier-knit-emu: DTR dropped (the host closed the port): firmware restarted" << std::endl;
-    } else {
+    if (faults.dtr_reset)
+      std::cout << "atelier-knit-emu: DTR dropped (the host closed the port): the board resets when a host opens it"
+                << std::endl;
+    else
       std::cout << "atelier-knit-emu: DTR dropped (the host closed the port): no reset (fault no-dtr-reset)"
                 << std::endl;
-    }
     try {
       link->after_hangup();
     } catch (const std::exception& e) {
@@ -201,7 +216,16 @@ int main(int argc, char** argv) {
       ::poll(nullptr, 0, static_cast<int>(std::min<int64_t>(replug_at - now, 200)));
       continue;
     }
-    if (!connected && link->host_connected()) connected = true;
+    if (!connected && link->host_connected()) {
+      connected = true;
+      if (faults.dtr_reset) {  // DTR rises: the board resets and boots
+        fw->advance_to(clock_ms());
+        fw = boot_firmware();
+        log_in = ab::SlipDecoder{};
+        log_out = ab::SlipDecoder{};
+        if (verbose) std::cerr << "atelier-knit-emu: a host opened the port: the board resets\n";
+      }
+    }
 
     int64_t timeout = 200;  // bounded so a signal between checks is seen soon
     if (auto next = fw->next_event_ms()) timeout = std::clamp<int64_t>(*next - now, 0, timeout);
@@ -247,8 +271,7 @@ int main(int argc, char** argv) {
       if (pending.empty()) link->drain(1000);
       std::cerr << "atelier-knit-emu: link dropped after row " << rows_total << " (fault)\n";
       link->close();
-      link.reset();
-      fw.reset();
+      link.reset();  // the firmware stays for its carriage and counts: the replug boots a new one
       replug_at = clock_ms() + faults.replug_ms;
     }
   }

@@ -67,18 +67,40 @@ std::string state_name(FsmState s) {
 std::string error_text(uint8_t code) {
   char hex[8];
   std::snprintf(hex, sizeof hex, "0x%02x", code);
-  std::string what;
-  if (code == 0) what = "success";
-  else if (code == err::too_short) what = "message too short";
-  else if (code == err::bad_id) what = "unknown message id";
-  else if (code == err::bad_crc) what = "bad checksum";
-  else if (code <= 0x04) what = "malformed message";
-  else if (code >= 0x10 && code <= 0x13) what = "bad arguments (e.g. needle range)";
-  else if (code >= 0x20 && code <= 0x23) what = "machine not initialised";
-  else if (code >= 0xE0 && code <= 0xEF) what = "wrong machine state";
-  else if (code >= 0xF0) what = "firmware error";
-  else what = "unknown error";
-  return what + " (" + hex + ")";
+  const char* what = nullptr;
+  switch (code) {
+    case err::success: what = "success"; break;
+    case err::expected_longer_message: what = "message too short"; break;
+    case err::unrecognized_msgid: what = "unknown message id"; break;
+    case err::unexpected_msgid: what = "unexpected message id"; break;
+    case err::checksum_error: what = "bad checksum"; break;
+    case err::machine_type_invalid: what = "invalid machine type"; break;
+    case err::needle_value_invalid: what = "invalid needle range"; break;
+    case err::null_pointer_argument: what = "missing argument"; break;
+    case err::argument_invalid: what = "invalid arguments"; break;
+    case err::no_machine_type: what = "no machine type given"; break;
+    case err::no_carriage: what = "no carriage detected"; break;
+    case err::no_direction: what = "carriage direction unknown"; break;
+    case err::no_beltshift: what = "belt shift unknown"; break;
+    case err::machine_state_init: what = "wrong machine state: init"; break;
+    case err::machine_state_ready: what = "wrong machine state: ready"; break;
+    case err::machine_state_knit: what = "wrong machine state: knitting"; break;
+    case err::machine_state_test: what = "wrong machine state: test"; break;
+    case err::wrong_machine_state: what = "wrong machine state"; break;
+    case err::warning: what = "firmware warning"; break;
+    case err::recoverable_error: what = "recoverable firmware error"; break;
+    case err::critical_error: what = "critical firmware error"; break;
+    case err::fatal_error: what = "fatal firmware error"; break;
+    case err::unspecified_failure: what = "unspecified firmware failure"; break;
+    default:
+      if (code <= 0x0F) what = "malformed message";
+      else if (code <= 0x1F) what = "invalid arguments";
+      else if (code <= 0x2F) what = "machine not initialised";
+      else if (err::is_wrong_state(code)) what = "wrong machine state";
+      else if (code >= 0xF0) what = "firmware error";
+      else what = "unknown error";
+  }
+  return std::string(what) + " (" + hex + ")";
 }
 
 Bytes encode(const Message& m) {
@@ -130,13 +152,11 @@ Bytes encode(const Message& m) {
           [](const Debug& d) {
             Bytes b = {0x9F};
             for (char ch : d.text) b.push_back(static_cast<uint8_t>(ch));
-            b.push_back(0);
             return b;
           },
           [](const TestRes& t) {
             Bytes b = {0xEE};
             for (char ch : t.text) b.push_back(static_cast<uint8_t>(ch));
-            b.push_back(0);
             return b;
           },
       },

@@ -41,22 +41,58 @@ std::string state_name(FsmState s);  // "wait-for-machine", "init", "ready", "kn
 enum class Carriage : uint8_t { knit = 0, lace = 1, garter = 2, none = 0xFF };
 enum class Direction : uint8_t { left = 0, right = 1, unknown = 0xFF };
 
-// Error codes of the firmware.
+// Error codes of the firmware: the ErrorCode table of AYAB firmware 1.0.0 (src/ayab/fsm.h).
+// Firmware 1.0 itself only ever sends 0x01, 0x04, 0x11, 0x12, 0x20, 0xEF (and 0xFF in the
+// indStates of its hardware-test mode); the others are listed so that any code reads in words.
 namespace err {
 constexpr uint8_t success = 0x00;
-constexpr uint8_t too_short = 0x01;  // 0x01..0x04: malformed message
-constexpr uint8_t bad_id = 0x02;
-constexpr uint8_t bad_crc = 0x04;         // firmware 1.0's checksum_error (0x03: unexpected id)
-constexpr uint8_t bad_argument = 0x10;    // 0x10..0x13
-constexpr uint8_t bad_needles = 0x11;     // firmware 1.0's needle_value_invalid (reqStart range)
-constexpr uint8_t not_initialised = 0x20; // 0x20..0x23
-constexpr uint8_t wrong_state = 0xE0;     // 0xE0..0xEF
-// What firmware 1.0 answers reqInit outside wait-for-machine and reqStart outside ready
-// (Knitter::initMachine/startKnitting): one code for every wrong state, which it does not name.
+// 0x01..0x04: message not understood
+constexpr uint8_t expected_longer_message = 0x01;
+constexpr uint8_t unrecognized_msgid = 0x02;
+constexpr uint8_t unexpected_msgid = 0x03;
+constexpr uint8_t checksum_error = 0x04;
+// 0x10..0x13: invalid arguments
+constexpr uint8_t machine_type_invalid = 0x10;
+constexpr uint8_t needle_value_invalid = 0x11;  // reqStart: not start < stop < needle count
+constexpr uint8_t null_pointer_argument = 0x12;
+constexpr uint8_t argument_invalid = 0x13;
+constexpr uint8_t arguments_incompatible = 0x13;
+// 0x20..0x23: device not initialised
+constexpr uint8_t no_machine_type = 0x20;  // reqInit with machine byte 0xFF
+constexpr uint8_t no_carriage = 0x21;
+constexpr uint8_t no_direction = 0x22;
+constexpr uint8_t no_beltshift = 0x23;
+// 0xE0..0xEF: machine in the wrong state
+constexpr uint8_t machine_state_init = 0xE0;
+constexpr uint8_t machine_state_ready = 0xE1;
+constexpr uint8_t machine_state_knit = 0xE2;
+constexpr uint8_t machine_state_test = 0xE3;
+// What firmware 1.0 answers reqInit outside wait-for-machine, reqStart outside ready and
+// reqTest while knitting (Knitter::initMachine/startKnitting, Tester::startTest): one code
+// for every wrong state, which it does not name.
 constexpr uint8_t wrong_machine_state = 0xEF;
-constexpr uint8_t generic = 0xF0;
+// 0xF0..0xFF: generic
+constexpr uint8_t warning = 0xF0;
+constexpr uint8_t recoverable_error = 0xF1;
+constexpr uint8_t critical_error = 0xF2;
+constexpr uint8_t fatal_error = 0xF3;
+constexpr uint8_t unspecified_failure = 0xFF;
+
+// Names the rest of atelier uses.
+constexpr uint8_t too_short = expected_longer_message;
+constexpr uint8_t bad_id = unrecognized_msgid;
+constexpr uint8_t bad_crc = checksum_error;
+constexpr uint8_t bad_argument = machine_type_invalid;  // first of 0x10..0x13
+constexpr uint8_t bad_needles = needle_value_invalid;
+constexpr uint8_t not_initialised = no_machine_type;    // first of 0x20..0x23
+constexpr uint8_t wrong_state = machine_state_init;     // first of 0xE0..0xEF
+constexpr uint8_t generic = warning;
+// 0xE0..0xEF: the machine was in the wrong state for the request.
+constexpr bool is_wrong_state(uint8_t code) { return code >= 0xE0 && code <= 0xEF; }
 }  // namespace err
-std::string error_text(uint8_t code);  // "wrong machine state (0xe0)" etc.
+// "bad checksum (0x04)", "wrong machine state (0xef)", "wrong machine state: knitting (0xe2)":
+// the firmware's meaning in plain words and the code in hex, for messages to users.
+std::string error_text(uint8_t code);
 
 struct ReqInfo {};
 struct CnfInfo {
@@ -92,6 +128,7 @@ struct CnfLine {
 };
 struct ReqTest {};
 struct CnfTest { uint8_t error = err::success; };
+// Text messages: the id and the characters, no terminating NUL (Com::sendMsg).
 struct Debug { std::string text; };
 struct TestRes { std::string text; };
 

@@ -8,7 +8,10 @@
 // own (Faults).
 //
 // Resets (how the board's reset is wired to DTR, `Wiring`): auto_reset, an Uno whose port was
-// closed with HUPCL: every open() and every pulse_dtr() boots a fresh firmware. on_pulse_only:
+// closed with HUPCL: every open() (DTR rises: the reset edge) and every pulse_dtr() boots a
+// fresh firmware, which loses what arrives in its first boot_ms (50 ms here by default, against
+// about 1 s on a real Uno and in atelier-knit-emu, to keep tests fast). A fresh firmware finds
+// the carriage where the last one left it, and the row and cnfLine counts go on. on_pulse_only:
 // the port was closed without dropping DTR (no HUPCL), so an open() finds the firmware as the
 // last host left it, but a DTR pulse resets it. none (the no-dtr-reset fault, or
 // Faults::dtr_reset false): nothing but power resets it. firmware() is the board's firmware
@@ -128,6 +131,10 @@ class SimulatedKnitter {
       o.rows_before = static_cast<int>(rows_.size());
     }
     o.faults = faults_;
+    if (fw_) {
+      o.cnf_lines_before = fw_->cnf_lines_received();
+      o.carriage_position = fw_->carriage_position();
+    }
     epoch_ = clock_.now();
     drop_pending_ = false;
     fw_ = std::make_unique<knit_emu::Firmware>(o, [this](const knit_emu::KnittedRow& row) { knitted(row); }, 0);
@@ -147,6 +154,7 @@ class SimulatedKnitter {
   const knit_emu::Faults faults_;
   const Wiring wiring_;
   // The board (worker thread): its firmware and the clock value of the firmware's 0.
+  // `cnf_lines_`/`carriage_` carry the cnfLine count and the carriage over resets.
   std::unique_ptr<knit_emu::Firmware> fw_;
   Clock::time_point epoch_{};
   bool drop_pending_ = false;

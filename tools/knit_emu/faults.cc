@@ -20,6 +20,10 @@ std::string apply_fault(const std::string& spec, Faults& f) {
     f.dtr_reset = false;
     return "";
   }
+  if (spec == "impatient-knitter") {
+    f.impatient_knitter = true;
+    return "";
+  }
   const auto eq = spec.find('=');
   if (eq == std::string::npos) return where + "expected NAME=VALUE";
   const std::string name = spec.substr(0, eq), value = spec.substr(eq + 1);
@@ -61,6 +65,26 @@ std::string apply_fault(const std::string& spec, Faults& f) {
     f.silent_after_row = static_cast<int>(n);
     return "";
   }
+  if (name == "corrupt-line") {
+    if (!parse_int(value, 1, n) || n > 1000000000) return where + "line count must be an integer >= 1";
+    f.corrupt_line = static_cast<int>(n);
+    return "";
+  }
+  if (name == "bad-escape-after-row") {
+    if (!parse_int(value, 0, n) || n > 1000000000) return where + "row must be an integer >= 0";
+    f.bad_escape_after_row = static_cast<int>(n);
+    return "";
+  }
+  if (name == "knitter-pause-ms") {
+    if (!parse_int(value, 0, n)) return where + "pause must be ms >= 0";
+    f.knitter_pause_ms = n;
+    return "";
+  }
+  if (name == "knitter-patience-ms") {
+    if (!parse_int(value, 0, n)) return where + "patience must be ms >= 0";
+    f.knitter_patience_ms = n;
+    return "";
+  }
   if (name == "api") {
     if (!parse_int(value, 0, n) || n > 255) return where + "API version must be 0..255";
     f.api = static_cast<uint8_t>(n);
@@ -71,7 +95,9 @@ std::string apply_fault(const std::string& spec, Faults& f) {
     f.delay_ms = n;
     return "";
   }
-  return where + "unknown fault (drop-after-row, replug-ms, corrupt, seed, silent-after-row, api, delay-ms, no-dtr-reset)";
+  return where +
+         "unknown fault (drop-after-row, replug-ms, corrupt, seed, corrupt-line, bad-escape-after-row, "
+         "silent-after-row, api, delay-ms, no-dtr-reset, knitter-pause-ms, knitter-patience-ms, impatient-knitter)";
 }
 
 }  // namespace atelier::knit_emu

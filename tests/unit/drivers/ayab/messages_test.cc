@@ -29,7 +29,7 @@ TEST(AyabMessages, ExactLayoutsFromTheProtocol) {
   EXPECT_EQ(encode(ReqStart{0, 199, true, false})[3], 0x01);
   EXPECT_EQ(encode(CnfStart{0x10}), (Bytes{0xC1, 0x10}));
   EXPECT_EQ(encode(ReqLine{7, 0}), (Bytes{0x82, 7, 0}));
-  EXPECT_EQ(encode(Debug{"hi"}), (Bytes{0x9F, 'h', 'i', 0}));
+  EXPECT_EQ(encode(Debug{"hi"}), (Bytes{0x9F, 'h', 'i'})) << "no NUL: firmware 1.0's Com::sendMsg sends id + characters";
 }
 
 TEST(AyabMessages, CnfInfoIs22BytesWithNulTerminatedSuffix) {

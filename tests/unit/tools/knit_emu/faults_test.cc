@@ -27,6 +27,26 @@ TEST(KnitEmuFaults, ParsesEverySpec) {
   EXPECT_EQ(f.api, 5);
   EXPECT_EQ(apply_fault("delay-ms=30", f), "");
   EXPECT_EQ(f.delay_ms, 30);
+  EXPECT_EQ(apply_fault("corrupt-line=4", f), "");
+  EXPECT_EQ(f.corrupt_line, 4);
+  EXPECT_EQ(apply_fault("bad-escape-after-row=6", f), "");
+  EXPECT_EQ(f.bad_escape_after_row, 6);
+  EXPECT_TRUE(f.dtr_reset);
+  EXPECT_EQ(apply_fault("no-dtr-reset", f), "");
+  EXPECT_FALSE(f.dtr_reset);
+}
+
+TEST(KnitEmuFaults, KnitterOptionsDefaultToAQuickAttentiveKnitter) {
+  Faults f;
+  EXPECT_EQ(f.knitter_pause_ms, 10);
+  EXPECT_EQ(f.knitter_patience_ms, std::nullopt) << "2 x row-ms";
+  EXPECT_FALSE(f.impatient_knitter);
+  EXPECT_EQ(apply_fault("knitter-pause-ms=0", f), "");
+  EXPECT_EQ(f.knitter_pause_ms, 0);
+  EXPECT_EQ(apply_fault("knitter-patience-ms=750", f), "");
+  EXPECT_EQ(f.knitter_patience_ms, 750);
+  EXPECT_EQ(apply_fault("impatient-knitter", f), "");
+  EXPECT_TRUE(f.impatient_knitter);
 }
 
 TEST(KnitEmuFaults, RejectsBadSpecsWithAReason) {
@@ -39,6 +59,10 @@ TEST(KnitEmuFaults, RejectsBadSpecsWithAReason) {
   EXPECT_NE(apply_fault("api=300", f), "");
   EXPECT_NE(apply_fault("explode=1", f).find("unknown fault"), std::string::npos);
   EXPECT_NE(apply_fault("api", f), "");
+  EXPECT_NE(apply_fault("corrupt-line=0", f).find("corrupt-line=0"), std::string::npos);
+  EXPECT_NE(apply_fault("bad-escape-after-row=x", f), "");
+  EXPECT_NE(apply_fault("knitter-pause-ms=-5", f), "");
+  EXPECT_NE(apply_fault("knitter-patience-ms=", f), "");
   EXPECT_EQ(f.corrupt, 0.0) << "a rejected spec changed the faults";
 }
 
