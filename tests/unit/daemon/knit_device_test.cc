@@ -279,6 +279,47 @@ TEST(AyabKnitHungBoard, ABoardStillHungAfterTheResetSaysToUnplugIt) {
                                                std::to_string(rig.id) + " --from-row 3"));
 }
 
+// The same faults on the firmware model (tools/knit_emu/firmware.h, followed by the emulator).
+TEST(AyabKnitGarbledLine, OnTheFirmwareModelAGarbledRowIsNeverCountedAndResumeFinishesTheFabric) {
+  KnitJobOnDevice rig(6);
+  knit_emu::Faults faults;
+  ASSERT_EQ(knit_emu::apply_fault("corrupt-line=3", faults), "");  // row 3's line
+  test::SimulatedKnitter machine(rig.clock, 20, faults);
+  Job job = rig.run(machine);
+  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
+  EXPECT_EQ(job.progress_done, 2);
+  EXPECT_THAT(job.reason, ::testing::StartsWith("row 3 was knitted from a line garbled on the cable"));
+  EXPECT_THAT(job.reason, ::testing::HasSubstr("--from-row 3"));
+  const auto want = pass_lines(knit_job_plan(6));
+  const auto garbled = machine.recorded();
+  ASSERT_GE(garbled.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(garbled.begin(), garbled.begin() + 2),
+            std::vector<std::string>(want.begin(), want.begin() + 2));
+  EXPECT_NE(garbled[2], want[2]);
+  job = rig.run(machine, 3);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  const auto all = machine.recorded();
+  ASSERT_EQ(all.size(), garbled.size() + 4);
+  EXPECT_EQ(std::vector<std::string>(all.begin() + static_cast<long>(garbled.size()), all.end()),
+            std::vector<std::string>(want.begin() + 2, want.end()));
+}
+
+TEST(AyabKnitHungBoard, OnTheFirmwareModelAHungBoardIsResetAndResumeFinishesTheFabric) {
+  KnitJobOnDevice rig(6);
+  knit_emu::Faults faults;
+  ASSERT_EQ(knit_emu::apply_fault("bad-escape-after-row=3", faults), "");
+  test::SimulatedKnitter machine(rig.clock, 20, faults);
+  Job job = rig.run(machine);
+  ASSERT_EQ(job.state, JobState::interrupted) << job.reason;
+  EXPECT_EQ(job.reason, "the knitting machine stopped answering after row 3 (its firmware hung, e.g. on a byte "
+                        "garbled on the cable); atelier reset it; continue with: atelierctl resume " +
+                            std::to_string(rig.id) + " --from-row 4");
+  EXPECT_EQ(machine.dtr_pulses(), 1);
+  job = rig.run(machine, 4);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  EXPECT_EQ(machine.recorded(), pass_lines(knit_job_plan(6)));
+}
+
 TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens) {
   // Two problems: the yarn-over before a k2tog (row 3), and a row that widens (row 5).
   const Chart c{{knit(4), row({"k", "yo", "k2tog", "k"}), row({"yo", "k", "k", "k", "k"})}};
