@@ -1,6 +1,9 @@
 // End to end: atelierd knits real images on the AYAB emulator (a pseudo-terminal), and the
 // emulator's record of what the needles did is compared with pattern.png.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
 #include <signal.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -181,6 +184,58 @@ TEST(E2EKnitMachine, AHungBoardIsResetByTheDaemonAndResumeCompletesWithoutAReplu
   ASSERT_EQ(ctl.exit_code, 0) << ctl.err;
   ASSERT_TRUE(rig.wait_state("pic1.png", "completed")) << rig.daemon->log();
   EXPECT_EQ(rig.recorded(), expected_rows(rig.job("pic1.png")));
+}
+
+TEST(E2EKnitMachine, TheKnitterIsToldWhatToDoInOrderInShowAndDevices) {
+  // The knitter takes 150 ms before each pass, so every prompt lasts long enough to be seen.
+  Rig rig({"knitter-pause-ms=150"}, "[knit]\nwidth = 10\n", /*row_ms=*/3, "autostart = true\n");
+  atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "p.png");
+  std::vector<std::string> reasons, details;
+  auto note = [](std::vector<std::string>& seen, const std::string& what) {
+    if (!what.empty() && (seen.empty() || seen.back() != what)) seen.push_back(what);
+  };
+  ASSERT_TRUE(rig.daemon->wait_for([&] {
+    auto j = rig.job("p.png");
+    if (j.is_null()) return false;
+    if (j["state"] == "running" || j["state"] == "completed") {
+      note(reasons, rig.daemon->request("show", {{"id", j["id"]}})["result"]["reason"].get<std::string>());
+      note(details, rig.daemon->request("devices")["result"][0]["detail"].get<std::string>());
+    }
+    return j["state"] == "completed";
+  }, std::chrono::seconds(60))) << rig.daemon->log();
+  const auto job = rig.job("p.png");
+  const int rows = static_cast<int>(expected_rows(job).size());
+  const std::string turn_mark = "move the carriage over the left turn mark (set it to KC-I or KC-II)";
+  const std::string one_more = "all " + std::to_string(rows) +
+                               " rows knitted; one more pass to finish: move the carriage across once more (the "
+                               "machine beeps twice)";
+  const std::string done = "knitted " + std::to_string(rows) + " rows on knitter";
+  auto at = [&](const std::string& what) {
+    return std::find(reasons.begin(), reasons.end(), what) - reasons.begin();
+  };
+  const auto knitting = std::find_if(reasons.begin(), reasons.end(),
+                                     [](const std::string& r) { return r.rfind("knitting row ", 0) == 0; });
+  ASSERT_NE(knitting, reasons.end()) << ::testing::PrintToString(reasons);
+  EXPECT_LT(at(turn_mark), knitting - reasons.begin()) << ::testing::PrintToString(reasons);
+  EXPECT_LT(knitting - reasons.begin(), at(one_more)) << ::testing::PrintToString(reasons);
+  EXPECT_LT(at(one_more), at(done)) << ::testing::PrintToString(reasons);
+  EXPECT_EQ(reasons.back(), done);
+  // "knitting row N of M" counts up, and the device says the same.
+  int last = 0;
+  for (const auto& r : reasons) {
+    int n = 0, m = 0;
+    if (std::sscanf(r.c_str(), "knitting row %d of %d", &n, &m) == 2) {
+      EXPECT_GE(n, last) << r;
+      EXPECT_EQ(m, rows) << r;
+      last = n;
+    }
+  }
+  const std::string tag = "job " + std::to_string(job["id"].get<int>()) + ": ";
+  EXPECT_NE(std::find(details.begin(), details.end(), tag + turn_mark), details.end())
+      << ::testing::PrintToString(details);
+  EXPECT_NE(std::find(details.begin(), details.end(), tag + one_more), details.end())
+      << ::testing::PrintToString(details);
+  EXPECT_EQ(rig.recorded(), expected_rows(job));
 }
 
 TEST(E2EKnitMachine, OldFirmwareFailsWithAClearReason) {
