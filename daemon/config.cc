@@ -66,7 +66,11 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
     d.mode = r.get_choice("mode", "single-bed", {"single-bed", "classic-ribber", "circular"});
     d.start_needle = static_cast<int>(r.get_int("start_needle", -1, -1, 200));
     if (d.start_needle == 0) r.fail("start_needle", "needles are numbered from 1");
-    d.first_row = r.get_choice("first_row", "top", {"top", "bottom"});
+    // The row order moved to the job: chart.pdf and pattern.k are drawn for it at conversion.
+    if (r.has("first_row"))
+      r.fail("first_row", "the row order is now set per job: first_row = \"bottom\" (the default) or \"top\" "
+                          "in [knit] or a job's sidecar, so chart.pdf and pattern.k are made in the order "
+                          "the machine knits; remove it from [[device]]");
     d.mirror = r.get_bool("mirror", false);
   }
   if (laser) d.streaming = r.get_choice("streaming", d.streaming, {"character-counting", "send-response"});

@@ -30,7 +30,6 @@ struct DeviceConfig {
   // ayab: how a pattern is laid on the needle bed (drivers/ayab/knit_plan.h).
   std::string mode = "single-bed";   // single-bed | classic-ribber | circular
   int start_needle = -1;             // leftmost needle, 1-based as on the bed; -1 = centred
-  std::string first_row = "top";     // pattern.png row knitted first: top | bottom
   bool mirror = false;               // pattern column 0 on the rightmost needle instead
   // grbl: how G-code is streamed: "character-counting" (fast; keeps GRBL's receive buffer
   // full) or "send-response" (one line at a time, for controllers that misreport it).

@@ -7,6 +7,7 @@
 
 #include "base/error.h"
 #include "convert/kinds.h"
+#include "convert/knit/knit_order.h"
 #include "convert/lace/lace_chart_json.h"
 #include "daemon/job_log.h"
 #include "daemon/log.h"
@@ -90,7 +91,9 @@ KnitDevice::JobPlan KnitDevice::plan_job(const Job& job) const {
     if (image.empty()) throw BadInput(file.string() + " cannot be read");
     cv::Mat pattern = image < 128;  // black = contrast = 1
     pattern /= 255;
-    out.plan = ayab::plan_knitting(pattern, plan_params());
+    ayab::PlanParams params = plan_params();
+    params.first_row_top = job_knits_top_row_first(job.output_dir);  // as its chart.pdf says
+    out.plan = ayab::plan_knitting(pattern, params);
     for (int r = 0; r < pattern.rows; ++r) out.row_start.push_back(r * out.plan.passes_per_row);
   }
   out.row_start.push_back(static_cast<int>(out.plan.passes.size()));
@@ -148,7 +151,6 @@ ayab::PlanParams KnitDevice::plan_params() const {
   p.machine = *ayab::machine_from_name(config_.machine);
   p.mode = *ayab::knit_mode_from_name(config_.mode);
   if (config_.start_needle > 0) p.start_needle = config_.start_needle - 1;
-  p.first_row_top = config_.first_row == "top";
   p.mirror = config_.mirror;
   return p;
 }

@@ -4,7 +4,9 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "convert/common/cairo_output.h"
@@ -55,6 +57,13 @@ void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Ti
            std::to_string(t.stitch0) + "-" + std::to_string(t.stitch1) +
            "   (row 1 = bottom, knitted first; stitches counted from the right)",
        8, false);
+  if (info.first_row_top) {
+    y += 3.5 * kMm;
+    chart_text(cr, kMargin, y,
+               "Knitted top-down: row 1 is the top of the picture, so the picture is upside down "
+               "here, as the fabric comes off the machine.",
+               8, false);
+  }
   y += 3 * kMm;
   // Colour key.
   const char* labels[2] = {"background yarn (carrier 1)", "contrast yarn (carrier 2)"};
@@ -78,8 +87,8 @@ void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Ti
   cairo_rectangle(cr, gx, gy, ncols * kCell, nrows * kCell);
   cairo_fill(cr);
   for (int r = 0; r < nrows; ++r) {
-    int n = t.row1 - r;                            // pattern row
-    const unsigned char* line = grid.ptr<unsigned char>(rows - n);
+    int n = t.row1 - r;                            // chart row, 1 = knitted first
+    const unsigned char* line = grid.ptr<unsigned char>(info.first_row_top ? n - 1 : rows - n);
     for (int k = 0; k < ncols;) {  // one rectangle per run of contrast cells
       int s = t.stitch1 - k;         // stitch from the right, at column width - s
       if (!line[width - s]) {
@@ -130,16 +139,47 @@ void draw_page(cairo_t* cr, const cv::Mat& grid, const ChartInfo& info, const Ti
   }
 }
 
-}  // namespace
-
-int write_chart_pdf(const cv::Mat& grid, const ChartInfo& info,
-                    const std::filesystem::path& pdf) {
-  CV_Assert(grid.type() == CV_8UC1 && !grid.empty());
+// The pages in the order they are knitted: bottom rows first, then right to left.
+std::vector<Tile> chart_tiles(const cv::Mat& grid) {
   std::vector<Tile> tiles;
   for (int r0 = 1; r0 <= grid.rows; r0 += kRowsPerPage)
     for (int s0 = 1; s0 <= grid.cols; s0 += kColsPerPage)
       tiles.push_back(Tile{r0, std::min(grid.rows, r0 + kRowsPerPage - 1), s0,
                            std::min(grid.cols, s0 + kColsPerPage - 1)});
+  return tiles;
+}
+
+}  // namespace
+
+cv::Mat render_chart_page(const cv::Mat& grid, const ChartInfo& info, int page, double px_per_mm) {
+  CV_Assert(grid.type() == CV_8UC1 && !grid.empty() && px_per_mm > 0);
+  const std::vector<Tile> tiles = chart_tiles(grid);
+  if (page < 1 || page > static_cast<int>(tiles.size()))
+    throw std::out_of_range("the chart has pages 1 to " + std::to_string(tiles.size()) + ", not " +
+                            std::to_string(page));
+  const double scale = px_per_mm / kMm;  // pixels per point
+  cv::Mat bgra(static_cast<int>(std::ceil(kPageH * scale)), static_cast<int>(std::ceil(kPageW * scale)), CV_8UC4,
+               cv::Scalar(255, 255, 255, 255));
+  // Cairo's ARGB32 is B, G, R, A in memory on little-endian machines: OpenCV's BGRA.
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
+      cairo_image_surface_create_for_data(bgra.data, CAIRO_FORMAT_ARGB32, bgra.cols, bgra.rows,
+                                          static_cast<int>(bgra.step)),
+      cairo_surface_destroy);
+  {
+    std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), cairo_destroy);
+    cairo_scale(cr.get(), scale, scale);
+    draw_page(cr.get(), grid, info, tiles[static_cast<size_t>(page - 1)], page, static_cast<int>(tiles.size()));
+  }
+  cairo_surface_flush(surface.get());
+  cv::Mat bgr;
+  cv::cvtColor(bgra, bgr, cv::COLOR_BGRA2BGR);
+  return bgr;
+}
+
+int write_chart_pdf(const cv::Mat& grid, const ChartInfo& info,
+                    const std::filesystem::path& pdf) {
+  CV_Assert(grid.type() == CV_8UC1 && !grid.empty());
+  const std::vector<Tile> tiles = chart_tiles(grid);
 
   // Drawn into memory, then written atomically (cairo_output.h).
   CairoBytes bytes;

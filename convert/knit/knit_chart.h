@@ -1,7 +1,9 @@
 // Printable Fair-Isle chart (PDF via cairo) for hand and machine knitters.
 //
 // A4 portrait, 4.5 mm cells, split over as many pages as needed; each page says which rows
-// and stitches it covers. Row 1 is the first row knitted = the bottom row of the picture;
+// and stitches it covers. Row 1, drawn at the bottom, is the first row knitted: the bottom row
+// of the picture (the chart is the picture upright), or with first_row_top its top row (the
+// chart is the picture upside down, as the fabric comes off the machine; the header says so);
 // right-side (odd) row numbers stand on the right edge, wrong-side (even) ones on the left,
 // as a knitter reads them. Stitches are numbered along the bottom from the right. Every 10th
 // grid line is bold. The first lines give the file name, size, max float and solver, and a
@@ -27,10 +29,16 @@ struct ChartInfo {
   std::string solver;
   std::array<Rgb, 2> colors{};  // background, contrast
   std::array<std::string, 2> color_names{};  // "#rrggbb" as configured
+  bool first_row_top = false;  // [knit] first_row = "top": grid row 0 is row 1 (knitted first)
   std::function<void(double)> progress;      // fraction of pages written; may be empty
 };
 
 // `grid`: CV_8UC1, 1 = contrast, row 0 = top of the picture. Returns the number of pages.
 int write_chart_pdf(const cv::Mat& grid, const ChartInfo& info, const std::filesystem::path& pdf);
+
+// Page `page` (1-based, at most the page count) of the same chart drawn by the same code into
+// a white BGR image, `px_per_mm` pixels per millimetre: for looking at a chart (and testing
+// what is drawn) without a PDF reader. std::out_of_range for a page the chart does not have.
+cv::Mat render_chart_page(const cv::Mat& grid, const ChartInfo& info, int page, double px_per_mm);
 
 }  // namespace atelier

@@ -162,6 +162,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   chart.solver = p.solver;
   chart.colors = p.rgb;
   chart.color_names = p.colors;
+  chart.first_row_top = p.first_row == "top";
   chart.progress = [&req](double f) { report_progress(req, 0.85 + 0.1 * f); };
   const int pages = write_chart_pdf(grid, chart, out / "chart.pdf");
   timer.done("chart_pdf");
@@ -170,6 +171,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   KnitoutOptions ko;
   ko.stitches_per_10cm = p.stitches_per_10cm;
   ko.title = "atelier knit pattern from " + input_name;
+  ko.first_row_top = p.first_row == "top";
   write_output(out / "pattern.k", make_knitout(grid, ko));
   timer.done("knitout");
 
@@ -194,6 +196,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
       {"rw_m", p.rw_m},
       {"invert", p.invert},
       {"colors", {p.colors[0], p.colors[1]}},
+      {"first_row", p.first_row},
   };
   nlohmann::ordered_json r;
   r["kind"] = "knit";
@@ -211,7 +214,8 @@ ConvertResult convert_knit(const ConvertRequest& req) {
              : "the picture has continuous tones";
   }
   r["grid"] = {{"stitches", grid.cols}, {"rows", grid.rows}};
-  r["first_row"] = "bottom";
+  // The picture row knitted first; the knitting machine's device reads it (knit_order.h).
+  r["first_row"] = p.first_row;
   r["conflicts_before"] = stats.violations_before;
   r["conflicts_after"] = stats.violations_after;
   r["consistent_before_pct"] = pct(consistent_before, total);

@@ -30,7 +30,9 @@ std::string make_knitout(const cv::Mat& grid, const KnitoutOptions& options) {
       << "; " << options.title << "\n"
       << "; Fair Isle, " << width << " stitches x " << rows
       << " rows; carrier 1 = background yarn, carrier 2 = contrast yarn\n"
-      << "; needle f1 = leftmost stitch seen on the right side; row 1 = bottom of the picture\n";
+      << "; needle f1 = leftmost stitch seen on the right side; row 1 = "
+      << (options.first_row_top ? "top of the picture (knitted top-down)" : "bottom of the picture")
+      << "\n";
 
   // Cast-on with the background yarn: tuck every other needle leftwards, the rest rightwards,
   // then two plain rows before the yarn-inserting hook lets go.
@@ -46,7 +48,7 @@ std::string make_knitout(const cv::Mat& grid, const KnitoutOptions& options) {
   out << "inhook 2\n";
   char dir = '-';
   for (int n = 1; n <= rows; ++n) {
-    const unsigned char* row = grid.ptr<unsigned char>(rows - n);
+    const unsigned char* row = grid.ptr<unsigned char>(options.first_row_top ? n - 1 : rows - n);
     out << "; row " << n << "\n";
     pass(out, "knit", dir, width, 1, row);
     pass(out, "knit", dir, width, 2, row);

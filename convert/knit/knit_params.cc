@@ -72,6 +72,7 @@ KnitParams read_knit_params(const toml::table& table, const std::string& source)
     }
     p.colors[i] = colors[i];
   }
+  p.first_row = r.get_choice("first_row", p.first_row, {"bottom", "top"});
   r.finish();
   return p;
 }

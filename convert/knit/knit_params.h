@@ -18,6 +18,11 @@
 //   seed = 1, rw_n = 100 (1..100000), rw_q = 5 (0..100000), rw_m = 4 (1..100)
 //   invert = false                   false: dark areas get the contrast colour
 //   colors = ["#f4efe6", "#3a2a5c"]  background, contrast yarn as #rrggbb (preview, chart)
+//   first_row = "bottom" | "top"     the picture row knitted first (row 1 of chart.pdf and
+//                                    pattern.k; the machine follows report.json's first_row).
+//                                    bottom: the cast-on edge is the picture's bottom, so the
+//                                    fabric is the picture upright (as AYAB desktop knits);
+//                                    top: knitted top-down, the fabric comes off upside down.
 //
 // Unknown keys, wrong types and values out of range are ParamError "FILE:LINE: key 'k': ...".
 // Thread-safe (no shared state).
@@ -57,6 +62,7 @@ struct KnitParams {
   bool invert = false;
   std::array<std::string, 2> colors{"#f4efe6", "#3a2a5c"};  // background, contrast
   std::array<Rgb, 2> rgb{};  // `colors` parsed
+  std::string first_row = "bottom";  // "bottom" | "top": the picture row knitted first
 
   knit::GaugeParams gauge() const;
   knit::Dither dither_method() const;

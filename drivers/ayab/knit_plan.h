@@ -4,8 +4,10 @@
 // Mapping (documented for users in README "Knitting on the machine"):
 // - pattern.png column 0 -> the leftmost needle of the working range (start_needle), column c
 //   -> start_needle + c; `mirror` reverses this (the knitter faces the purl side).
-// - pattern.png row 0 is the first row knitted (`first_row = "top"`, the default), or the
-//   last (`first_row = "bottom"`).
+// - pattern.png's bottom row is the first row knitted (`[knit] first_row = "bottom"`, the
+//   default, as AYAB desktop does): the cast-on edge is the bottom of the picture, so the
+//   fabric, cast-on edge down, is pattern.png upright. `first_row = "top"` knits row 0 first
+//   (the fabric comes off the machine upside down: for top-down pieces).
 // - A contrast stitch (1, black in pattern.png) selects its needle in single-bed Fair Isle.
 #pragma once
 
@@ -39,7 +41,7 @@ struct PlanParams {
   MachineType machine = MachineType::kh930;
   KnitMode mode = KnitMode::single_bed;
   std::optional<int> start_needle;  // leftmost needle (0-based); centred when empty
-  bool first_row_top = true;
+  bool first_row_top = false;  // false: pattern row rows-1 (the bottom) is knitted first
   bool mirror = false;
 };
 

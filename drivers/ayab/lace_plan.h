@@ -7,7 +7,8 @@
 // operator's left (the purl side faces the operator). Per chart row: the lace-carriage passes
 // (an even number, the first left to right; 1 = a needle whose loops move one needle in the
 // pass direction), then two knit-carriage passes with no needle selected (the RS row and the
-// plain WS row). PlanParams::mode, first_row_top and mirror do not apply to lace.
+// plain WS row). PlanParams::mode, first_row_top and mirror do not apply to lace:
+// chart row 0 (row 1, drawn at the bottom of chart.pdf) is always knitted first.
 //
 // Pure, thread-safe.
 #pragma once

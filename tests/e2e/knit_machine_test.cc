@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <signal.h>
 
+#include <algorithm>
+#include <fstream>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/e2e/daemon_harness.h"
@@ -43,8 +46,8 @@ struct Rig {
   std::vector<std::string> recorded() const { return emulator.recorded(); }
 };
 
-// pattern.png as the needles should knit it: row 0 first, '1' = contrast (black).
-std::vector<std::string> expected_rows(const nlohmann::json& job) {
+// pattern.png's rows as the picture shows them, top row first; '1' = contrast (black).
+std::vector<std::string> pattern_rows(const nlohmann::json& job) {
   cv::Mat p = cv::imread(job["output_dir"].get<std::string>() + "/pattern.png", cv::IMREAD_GRAYSCALE);
   std::vector<std::string> rows;
   for (int r = 0; r < p.rows; ++r) {
@@ -52,6 +55,15 @@ std::vector<std::string> expected_rows(const nlohmann::json& job) {
     for (int c = 0; c < p.cols; ++c) line.push_back(p.at<uchar>(r, c) < 128 ? '1' : '0');
     rows.push_back(line);
   }
+  return rows;
+}
+
+// pattern.png as the needles should knit it, in the job's knitting order: its report.json's
+// first_row, "bottom" (the default: the last row of pattern.png first) or "top".
+std::vector<std::string> expected_rows(const nlohmann::json& job) {
+  std::vector<std::string> rows = pattern_rows(job);
+  std::ifstream report(job["output_dir"].get<std::string>() + "/report.json");
+  if (nlohmann::json::parse(report).value("first_row", "bottom") != "top") std::reverse(rows.begin(), rows.end());
   return rows;
 }
 
@@ -284,4 +296,50 @@ TEST(E2EKnitMachine, CancelStopsAfterTheCurrentRowAndTheMachineKnitsTheNextJob) 
   auto b = expected_rows(rig.job("b.png"));
   ASSERT_EQ(all.size(), knitted.size() + b.size());
   EXPECT_EQ(std::vector<std::string>(all.begin() + knitted.size(), all.end()), b);
+}
+
+// Issue 19 point 1: as AYAB desktop, the bottom row of the picture is knitted first, so the
+// fabric, read as it hangs with the cast-on edge at the bottom (the first knitted row lowest),
+// is pattern.png upright.
+TEST(E2EKnitMachine, TheFabricCastOnEdgeDownIsThePatternUpright) {
+  Rig rig({}, "[knit]\nwidth = 40\n");
+  atelier::test::drop_file(atelier::test::test_image("pic3.png"), rig.daemon->incoming("knit") / "pic3.png");
+  ASSERT_TRUE(rig.wait_state("pic3.png", "completed")) << rig.daemon->log();
+  const std::vector<std::string> picture = pattern_rows(rig.job("pic3.png"));  // top row first
+  ASSERT_GT(picture.size(), 2u);
+  ASSERT_NE(picture, std::vector<std::string>(picture.rbegin(), picture.rend())) << "pic3 is no test of the order";
+  const std::vector<std::string> knitted = rig.recorded();  // first knitted first
+  ASSERT_EQ(knitted.size(), picture.size());
+  EXPECT_EQ(knitted.front(), picture.back()) << "the first row knitted is pattern.png's bottom row";
+  // The fabric from its top edge (the last row knitted) down to the cast-on edge.
+  const std::vector<std::string> fabric(knitted.rbegin(), knitted.rend());
+  EXPECT_EQ(fabric, picture);
+}
+
+// first_row = "top", here from the job's sidecar: knitted top-down, pattern.png's top row first,
+// so the fabric, cast-on edge down, is the picture upside down.
+TEST(E2EKnitMachine, FirstRowTopFromTheSidecarKnitsThePictureTopDown) {
+  Rig rig({}, "[knit]\nwidth = 40\n");
+  atelier::test::write_file(rig.daemon->incoming("knit") / "pic3.png.toml", "first_row = \"top\"\n");
+  atelier::test::drop_file(atelier::test::test_image("pic3.png"), rig.daemon->incoming("knit") / "pic3.png");
+  ASSERT_TRUE(rig.wait_state("pic3.png", "completed")) << rig.daemon->log();
+  const std::vector<std::string> picture = pattern_rows(rig.job("pic3.png"));
+  ASSERT_GT(picture.size(), 2u);
+  ASSERT_NE(picture, std::vector<std::string>(picture.rbegin(), picture.rend()));
+  const std::vector<std::string> knitted = rig.recorded();
+  EXPECT_EQ(knitted, picture) << "pattern.png's rows in order, top row first";
+}
+
+// A device may no longer choose the row order (the job's chart was drawn for one): atelierd
+// refuses the old key at startup, naming the file, the line and the new place.
+TEST(E2EKnitMachine, TheOldDeviceFirstRowKeyIsRefusedNamingTheKnitSection) {
+  TempDir tmp;
+  const fs::path cfg = tmp.path() / "old.toml";
+  atelier::test::write_file(cfg, "[spool]\ndir = \"spool\"\n[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\n"
+                                 "port = \"/dev/ttyACM0\"\nfirst_row = \"top\"\n");
+  auto r = atelier::test::run_command({atelier::test::binary("atelierd").string(), "--check-config", "--config", cfg.string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(cfg.string() + ":7"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("first_row"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("[knit]"), std::string::npos) << r.err;
 }

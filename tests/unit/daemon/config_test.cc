@@ -208,12 +208,22 @@ TEST(Config, AKnittingMachineHasDefaultsAndIsChecked) {
   EXPECT_TRUE(d.autostart);
   EXPECT_EQ(d.mode, "single-bed");
   EXPECT_EQ(d.start_needle, -1);
-  EXPECT_EQ(d.first_row, "top");
   std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n");
   EXPECT_NE(e.find("port"), std::string::npos) << e;
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n"
                "port = \"/dev/x\"\nmachine = \"kh999\"\n");
   EXPECT_NE(e.find("kh930"), std::string::npos) << e;
+}
+
+// The row order is the job's ([knit] first_row): chart.pdf and pattern.k are drawn for it, so a
+// device may not knit another order. The old [[device]] key is refused, naming the new place.
+TEST(Config, ADevicesFirstRowIsRefusedNamingTheKnitSection) {
+  const std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n"
+                                 "port = \"/dev/x\"\nfirst_row = \"top\"\n");
+  EXPECT_NE(e.find(":7"), std::string::npos) << e;
+  EXPECT_NE(e.find("first_row"), std::string::npos) << e;
+  EXPECT_NE(e.find("[knit]"), std::string::npos) << e;
+  EXPECT_NE(e.find("sidecar"), std::string::npos) << e;
 }
 
 TEST(Config, SetOverridesParseTomlValuesAndBareWords) {

@@ -16,11 +16,14 @@
 
 #include "convert/convert.h"
 #include "convert/common/param_table.h"
+#include "convert/knit/knit_order.h"
+#include "base/error.h"
 
 namespace atelier {
 namespace {
 
 namespace fs = std::filesystem;
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 const fs::path kData = ATELIER_TEST_DATA;
@@ -107,7 +110,8 @@ class ConvertKnitTest : public ::testing::Test {
 
   // Two passes per row in one direction, alternating per row; each needle knitted exactly once
   // per row, by carrier 2 exactly where pattern.png is black (f1 = leftmost, row 1 = bottom).
-  static void check_knitout(const std::string& k, const cv::Mat& pattern) {
+  // `top`: [knit] first_row = "top", row 1 is pattern.png's top row.
+  static void check_knitout(const std::string& k, const cv::Mat& pattern, bool top = false) {
     ASSERT_EQ(k.rfind(";!knitout-2\n", 0), 0u);
     EXPECT_THAT(k, HasSubstr(";;Carriers: 1 2\n"));
     EXPECT_THAT(k, HasSubstr(";;Machine:"));
@@ -142,7 +146,7 @@ class ConvertKnitTest : public ::testing::Test {
         ASSERT_TRUE(n >= 0 && n < w) << ops[i];
         if (verb == "knit") {
           ++knits[n];
-          bool contrast = pattern.at<uchar>(pattern.rows - row, n) == 0;
+          bool contrast = pattern.at<uchar>(top ? row - 1 : pattern.rows - row, n) == 0;
           EXPECT_EQ(carrier == 2, contrast) << ops[i];
           if (carrier == 2) ++carrier2_knits;
         } else {
@@ -176,6 +180,46 @@ TEST_F(ConvertKnitTest, LineDrawingPic3) {
   check_outputs(90, 4);
   EXPECT_EQ(r.report["solver"], "hybrid");
   EXPECT_EQ(r.outputs.size(), 5u);
+}
+
+// The row order is the job's: first_row = "top" knits pattern.png's top row first in the
+// knitout, says so in it, and records it in report.json for the machine (knit_order.h).
+TEST_F(ConvertKnitTest, FirstRowTopMakesTheKnitoutStartAtThePicturesTopAndIsRecorded) {
+  const ConvertResult r = run(kData / "pic3.png", {"width=60", "first_row=\"top\""});
+  const cv::Mat pattern = cv::imread((out_ / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_GT(pattern.rows, 2);
+  // An upside-down pattern would pass both knitout checks only if pic3 were symmetric.
+  cv::Mat flipped;
+  cv::flip(pattern, flipped, 0);
+  ASSERT_GT(cv::countNonZero(flipped != pattern), 0) << "pic3 is no test of the order";
+  const std::string k = slurp(out_ / "pattern.k");
+  check_knitout(k, pattern, /*top=*/true);
+  EXPECT_THAT(k, HasSubstr("row 1 = top of the picture"));
+  EXPECT_EQ(r.report["first_row"], "top");
+  EXPECT_EQ(r.report["parameters"]["first_row"], "top");
+  EXPECT_EQ(job_knits_top_row_first(out_), true);
+  // pattern.png itself stays upright: the same picture as the default order's.
+  run(kData / "pic3.png", {"width=60"});
+  const cv::Mat upright = cv::imread((out_ / "pattern.png").string(), cv::IMREAD_GRAYSCALE);
+  EXPECT_EQ(cv::countNonZero(upright != pattern), 0);
+  EXPECT_EQ(job_knits_top_row_first(out_), false);
+  EXPECT_THAT(slurp(out_ / "pattern.k"), HasSubstr("row 1 = bottom of the picture"));
+}
+
+TEST_F(ConvertKnitTest, TheMachineReadsTheOrderFromTheJobsReport) {
+  fs::create_directories(out_);
+  EXPECT_FALSE(job_knits_top_row_first(out_)) << "no report: the default, bottom first";
+  std::ofstream(out_ / "report.json") << R"({"kind": "knit", "first_row": "top"})";
+  EXPECT_TRUE(job_knits_top_row_first(out_));
+  std::ofstream(out_ / "report.json") << R"({"kind": "knit", "first_row": "left"})";
+  try {
+    job_knits_top_row_first(out_);
+    FAIL() << "no error";
+  } catch (const BadInput& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("report.json"), HasSubstr("first_row"), HasSubstr("\"left\"")));
+  }
+  std::ofstream(out_ / "report.json") << "{not json";
+  EXPECT_THROW(job_knits_top_row_first(out_), BadInput);
 }
 
 TEST_F(ConvertKnitTest, PhotoButterflyWithLongerFloats) {

@@ -41,6 +41,7 @@ TEST(ConvertKnitParams, DefaultsMatchTheDesign) {
   EXPECT_EQ(p.threshold, 128);
   EXPECT_EQ(p.rgb[0].r, 0xf4);
   EXPECT_EQ(p.rgb[1].b, 0x5c);
+  EXPECT_EQ(p.first_row, "bottom");  // as AYAB desktop: the fabric is the picture upright
 }
 
 TEST(ConvertKnitParams, ReadsEveryKey) {
@@ -61,6 +62,7 @@ rw_q = 3
 rw_m = 2
 invert = true
 colors = ["#ffffff", "#000000"]
+first_row = "top"
 )"),
                                   "job.toml");
   EXPECT_EQ(p.width, 64);
@@ -74,6 +76,7 @@ colors = ["#ffffff", "#000000"]
   EXPECT_TRUE(p.invert);
   EXPECT_EQ(p.rgb[0].g, 255);
   EXPECT_EQ(p.rgb[1].g, 0);
+  EXPECT_EQ(p.first_row, "top");
 }
 
 TEST(ConvertKnitParams, UnknownKeyNamesFileLineAndKey) {
@@ -97,6 +100,8 @@ TEST(ConvertKnitParams, OutOfRangeAndBadChoicesAreRefused) {
   EXPECT_THAT(param_error("colors = [\"#fff\", \"#000000\"]\n"),
               AllOf(HasSubstr("job.toml:1"), HasSubstr("colors"), HasSubstr("#rrggbb")));
   EXPECT_THAT(param_error("colors = [\"#ffffff\"]\n"), HasSubstr("two colours"));
+  EXPECT_THAT(param_error("first_row = \"left\"\n"),
+              AllOf(HasSubstr("job.toml:1"), HasSubstr("first_row"), HasSubstr("bottom"), HasSubstr("top")));
 }
 
 TEST(ConvertKnitParams, ValidateKindParamsUsesTheKnitReader) {

@@ -76,14 +76,15 @@ TEST(AyabKnitPlan, SingleBedSelectsContrastNeedlesColumnByColumn) {
   const KnitPlan p = plan_knitting(pat, {});
   ASSERT_EQ(p.passes.size(), 5u);
   EXPECT_EQ(p.passes_per_row, 1);
-  for (int r = 0; r < 5; ++r) {
-    EXPECT_EQ(p.pattern_row[r], r);
-    ASSERT_EQ(p.passes[r].size(), 25u);
+  for (int i = 0; i < 5; ++i) {
+    const int r = 4 - i;  // bottom row first (AyabKnitPlan.TheBottomRowIsKnittedFirst...)
+    EXPECT_EQ(p.pattern_row[i], r);
+    ASSERT_EQ(p.passes[i].size(), 25u);
     // needle = start + column; needle n is bit (n & 7) of byte (n >> 3)
     std::vector<int> want = {80 + r, 80 + r + 3};
-    EXPECT_EQ(selected(p.passes[r]), want) << "row " << r;
+    EXPECT_EQ(selected(p.passes[i]), want) << "row " << r;
     const int n = 80 + r;
-    EXPECT_TRUE((p.passes[r][n >> 3] >> (n & 7)) & 1);
+    EXPECT_TRUE((p.passes[i][n >> 3] >> (n & 7)) & 1);
   }
 }
 
@@ -99,17 +100,45 @@ TEST(AyabKnitPlan, MirrorPutsColumnZeroOnTheRightmostNeedle) {
   EXPECT_EQ(selected(plan_knitting(pat, params).passes[0]), std::vector<int>{20});
 }
 
-TEST(AyabKnitPlan, FirstRowBottomKnitsTheLastPatternRowFirst) {
+// As AYAB desktop (engine.py: "start to knit with the bottom first"): the cast-on edge is the
+// bottom of the picture, so the fabric, cast-on edge down, is the picture upright.
+TEST(AyabKnitPlan, TheBottomRowIsKnittedFirstByDefault) {
+  // An asymmetric pattern: row r selects only column r, so every row is different.
+  cv::Mat pat(4, 10, CV_8UC1, cv::Scalar(0));
+  for (int r = 0; r < 4; ++r) pat.at<uint8_t>(r, r) = 1;
+  PlanParams params;
+  params.start_needle = 0;
+  const KnitPlan p = plan_knitting(pat, params);
+  ASSERT_EQ(p.passes.size(), 4u);
+  EXPECT_EQ(p.pattern_row, (std::vector<int>{3, 2, 1, 0}));
+  EXPECT_EQ(selected(p.passes[0]), std::vector<int>{3});  // pattern.png's bottom row
+  EXPECT_EQ(selected(p.passes[3]), std::vector<int>{0});  // its top row, knitted last
+}
+
+TEST(AyabKnitPlan, FirstRowTopKnitsPatternRowZeroFirst) {
   const cv::Mat pat = diagonal(6, 30);
   PlanParams params;
-  params.first_row_top = false;
-  const KnitPlan p = plan_knitting(pat, params);
-  const KnitPlan top = plan_knitting(pat, {});
-  ASSERT_EQ(p.passes.size(), 6u);
+  params.first_row_top = true;
+  const KnitPlan top = plan_knitting(pat, params);
+  const KnitPlan bottom = plan_knitting(pat, {});
+  ASSERT_EQ(top.passes.size(), 6u);
   for (int i = 0; i < 6; ++i) {
-    EXPECT_EQ(p.pattern_row[i], 5 - i);
-    EXPECT_EQ(p.passes[i], top.passes[5 - i]);
+    EXPECT_EQ(top.pattern_row[i], i);
+    EXPECT_EQ(top.passes[i], bottom.passes[5 - i]);
   }
+}
+
+TEST(AyabKnitPlan, ClassicRibberColourOrderFollowsTheKnittedRowsBottomFirst) {
+  cv::Mat pat(3, 4, CV_8UC1, cv::Scalar(0));
+  pat.at<uint8_t>(2, 3) = 1;  // the bottom row, knitted first
+  PlanParams params;
+  params.mode = KnitMode::classic_ribber;
+  params.start_needle = 0;
+  const KnitPlan p = plan_knitting(pat, params);
+  EXPECT_EQ(p.pattern_row, (std::vector<int>{2, 2, 1, 1, 0, 0}));
+  EXPECT_EQ(p.colour, (std::vector<uint8_t>{0, 1, 1, 0, 0, 1}));  // A B, B A, A B as knitted
+  EXPECT_EQ(selected(p.passes[0]), (std::vector<int>{0, 1, 2}));  // bottom row, background
+  EXPECT_EQ(selected(p.passes[1]), (std::vector<int>{3}));        // bottom row, contrast
 }
 
 TEST(AyabKnitPlan, ClassicRibberPassesABThenBA) {
@@ -120,6 +149,7 @@ TEST(AyabKnitPlan, ClassicRibberPassesABThenBA) {
   PlanParams params;
   params.mode = KnitMode::classic_ribber;
   params.start_needle = 0;
+  params.first_row_top = true;  // pattern rows in the order 0, 1, 2
   const KnitPlan p = plan_knitting(pat, params);
   EXPECT_EQ(p.passes_per_row, 2);
   ASSERT_EQ(p.passes.size(), 6u);
