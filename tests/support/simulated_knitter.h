@@ -25,6 +25,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/fake_clock.h"
@@ -60,6 +61,11 @@ class SimulatedKnitter {
   std::vector<std::string> recorded() const {
     std::lock_guard lock(mu_);
     return rows_;
+  }
+  // The working range (first, last needle, 0-based) of each recorded row.
+  std::vector<std::pair<int, int>> ranges() const {
+    std::lock_guard lock(mu_);
+    return ranges_;
   }
   int opened() const {
     std::lock_guard lock(mu_);
@@ -136,6 +142,7 @@ class SimulatedKnitter {
     {
       std::lock_guard lock(mu_);
       rows_.push_back(row.needles);
+      ranges_.emplace_back(row.start_needle, row.stop_needle);
     }
     const auto& drop = faults_.drop_after_row;
     if (drop && row.number == *drop) drop_pending_ = true;
@@ -152,6 +159,7 @@ class SimulatedKnitter {
   bool drop_pending_ = false;
   mutable std::mutex mu_;
   std::vector<std::string> rows_;
+  std::vector<std::pair<int, int>> ranges_;
   int opened_ = 0;
   int dtr_pulses_ = 0;
 };
