@@ -105,9 +105,9 @@ void DeviceWorker::start(int64_t job_id, const StartOptions& options) {
   auto job = jobs_.store().get(job_id);
   if (!job || job->state != JobState::ready || !takes(job->kind))
     throw BadInput(job_tag(job_id) + " is not a ready job for " + config_.name);
-  accept_start(*job, options);
   // An arming must not wait for a machine plugged in hours later, with nobody there.
   require_online();
+  accept_start(*job, options);
   {
     std::lock_guard lock(mu_);
     armed_.insert(job_id);

@@ -107,14 +107,14 @@ KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOpti
       throw BadInput(tag + ": " + needle_from + *needle_text + " is not a needle of the " + config_.machine +
                      " (" + config_.name + "): " + problem);
   }
-  JobPlan centred;
+  JobPlan sized;  // at needle 0 (fits whenever the pattern is not wider than the bed): rows, width
   try {
-    centred = plan_job(job);
+    sized = plan_job(job, 0);
   } catch (const std::exception& e) {
     throw BadInput(tag + ": " + e.what());
   }
   const bool lace = is_lace(job.kind);
-  const int rows = centred.rows();
+  const int rows = sized.rows();
   const std::optional<int> row = options.from_row ? options.from_row : own.start_row;
   const std::string row_from = options.from_row ? "--from-row " : "start_row ";
   if (check_row && row) {
@@ -123,7 +123,7 @@ KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOpti
                      (lace ? "chart" : "pattern") + " (rows 1 to " + std::to_string(rows) + ")");
     out.from_row = *row;
   }
-  const int width = centred.plan.stop_needle - centred.plan.start_needle + 1;
+  const int width = sized.plan.stop_needle - sized.plan.start_needle + 1;
   if (out.start_needle && *out.start_needle + width > needles) {
     const int last = needles - width;  // the rightmost needle the pattern may start on
     throw BadInput(tag + ": " + needle_from + *needle_text + " puts the " + (lace ? "lace's " : "pattern's ") +

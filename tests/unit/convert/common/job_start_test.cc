@@ -8,6 +8,10 @@
 namespace atelier {
 namespace {
 
+toml::table parse(const std::string& text, const std::string& source) {
+  return toml::parse(std::string_view(text), std::string_view(source));
+}
+
 TEST(JobStartNeedles, TheBedsMarkingsAndCountsFromTheLeftEnd) {
   // KH-930: L100 is the leftmost needle, L1 and R1 either side of the centre, R100 the rightmost.
   EXPECT_EQ(parse_bed_needle("L100", 200), 0);
@@ -30,7 +34,7 @@ TEST(JobStartNeedles, TheBedsMarkingsAndCountsFromTheLeftEnd) {
 }
 
 TEST(JobStartKeys, AreTakenOutOfTheSidecarAndTheRestIsLeftForTheConversion) {
-  toml::table t = toml::parse("width = 60\nautostart = true\nstart_row = 5\nstart_needle = \"L20\"\n", "cat.png.toml");
+  toml::table t = parse("width = 60\nautostart = true\nstart_row = 5\nstart_needle = \"L20\"\n", "cat.png.toml");
   const JobStart s = take_job_start(t, "cat.png.toml");
   EXPECT_EQ(s.autostart, true);
   EXPECT_EQ(s.start_row, 5);
@@ -38,16 +42,16 @@ TEST(JobStartKeys, AreTakenOutOfTheSidecarAndTheRestIsLeftForTheConversion) {
   EXPECT_EQ(t.size(), 1u);
   EXPECT_TRUE(t.contains("width"));
 
-  toml::table counted = toml::parse("start_needle = 30\n", "a.toml");
+  toml::table counted = parse("start_needle = 30\n", "a.toml");
   EXPECT_EQ(take_job_start(counted, "a.toml").start_needle, "30");
-  toml::table none = toml::parse("width = 60\n", "b.toml");
+  toml::table none = parse("width = 60\n", "b.toml");
   const JobStart empty = take_job_start(none, "b.toml");
   EXPECT_FALSE(empty.autostart || empty.start_row || empty.start_needle);
 }
 
 TEST(JobStartKeys, BadValuesNameTheFileLineAndKey) {
   auto error = [](const std::string& text) -> std::string {
-    toml::table t = toml::parse(text, "cat.png.toml");
+    toml::table t = parse(text, "cat.png.toml");
     try {
       take_job_start(t, "cat.png.toml");
     } catch (const ParamError& e) {
