@@ -58,7 +58,9 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
                       : r.get_string("machine", "");
   d.kinds = r.get_string_list("kinds", kinds_for_driver(d.driver, /*default_only=*/true));
   // Writing a file is safe and quick: a file-drop device delivers without `atelierctl start`.
-  d.autostart = r.get_bool("autostart", knitter || drop);
+  // A knitting machine waits for the knitter (one piece at a time: cast on, then start), as
+  // a laser waits for its operator.
+  d.autostart = r.get_bool("autostart", drop);
   d.dir = r.get_string("dir", "");
   const std::vector<std::string> formats = drop_formats();
   d.formats = r.get_string_list("formats", drop ? formats : std::vector<std::string>{});

@@ -161,7 +161,7 @@ Daemon::Daemon(fs::path config_file, Config initial)
       [this](const Job& job) -> std::string {
         for (const auto& d : devices_) {
           if (!d->takes(job.kind)) continue;
-          if (d->config().autostart) return d->config().name;
+          if (d->autostarts(job)) return d->config().name;
           return d->config().name + " and `atelierctl start " + std::to_string(job.id) + "`";
         }
         return "";
@@ -364,8 +364,20 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
     bool settles = true;  // the job moves on shortly (running, or canceled)
     try {
       if (verb == "start") {
-        device.start(id);
+        StartOptions options;
+        if (args.contains("from_row")) {
+          if (!args["from_row"].is_number_integer()) throw ControlError("start needs an integer \"from_row\"");
+          options.from_row = args["from_row"].get<int>();
+        }
+        if (args.contains("start_needle")) {
+          if (!args["start_needle"].is_string())
+            throw ControlError("start needs \"start_needle\" as a string (\"L20\", \"R5\" or \"30\")");
+          options.start_needle = args["start_needle"].get<std::string>();
+        }
+        device.start(id, options);
         effect = "armed (runs on " + name + " as soon as it is free)";
+        if (options.from_row) effect += ", from row " + std::to_string(*options.from_row);
+        if (options.start_needle) effect += ", leftmost stitch on needle " + *options.start_needle;
       } else if (verb == "hold") {
         device.hold(id);
         effect = "held (feed hold: motion stopped, beam off; `atelierctl resume " + tag + "` continues)";

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +14,16 @@
 #include "daemon/config.h"
 
 namespace atelier {
+
+struct Job;
+
+// What `atelierctl start ID --from-row N --start-needle K` asks of a knitting machine; they
+// override the job's sidecar keys (convert/common/job_start.h). Empty for a plain start.
+struct StartOptions {
+  std::optional<int> from_row;              // 1-based row in knitting order
+  std::optional<std::string> start_needle;  // as typed: "L20", "R5" or "20" (job_start.h)
+  bool empty() const { return !from_row && !start_needle; }
+};
 
 class Device {
  public:
@@ -22,8 +33,16 @@ class Device {
   virtual nlohmann::json describe() const = 0;
   // A job may have become ready (or armed): look at the store again.
   virtual void wake() = 0;
-  // Arms a ready job on a device without autostart. Throws std::runtime_error if not possible.
-  virtual void start(int64_t job_id) = 0;
+  // Arms a ready job on a device without autostart, with `options` for the job (knitting
+  // machines only). Throws std::runtime_error (BadInput naming the job and the values) if not
+  // possible; then nothing is armed.
+  virtual void start(int64_t job_id, const StartOptions& options = {}) = 0;
+  // Whether a ready `job` of this device's kinds starts without `atelierctl start`: the
+  // device's autostart, or (knitting machines) the job's own `autostart = true`.
+  virtual bool autostarts(const Job& job) const {
+    (void)job;
+    return config().autostart;
+  }
   // Cancels a ready job of this device's kinds (at once) or the job it is running (it stops
   // after the current row). Returns false if the job is neither.
   virtual bool cancel(int64_t job_id) = 0;

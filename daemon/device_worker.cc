@@ -94,12 +94,20 @@ void DeviceWorker::require_online() const {
     throw BadInput(config_.name + " is offline (" + detail_ + "); connect it, then ask again");
 }
 
-void DeviceWorker::start(int64_t job_id) {
+void DeviceWorker::accept_start(const Job& job, const StartOptions& options) {
+  if (options.empty()) return;
+  throw BadInput(job_tag(job.id) + ": " + config_.name + " is not a knitting machine; --from-row and " +
+                 "--start-needle are for knit and lace jobs (start it with: atelierctl start " +
+                 std::to_string(job.id) + ")");
+}
+
+void DeviceWorker::start(int64_t job_id, const StartOptions& options) {
   auto job = jobs_.store().get(job_id);
   if (!job || job->state != JobState::ready || !takes(job->kind))
     throw BadInput(job_tag(job_id) + " is not a ready job for " + config_.name);
   // An arming must not wait for a machine plugged in hours later, with nobody there.
   require_online();
+  accept_start(*job, options);
   {
     std::lock_guard lock(mu_);
     armed_.insert(job_id);
@@ -125,6 +133,10 @@ bool DeviceWorker::cancel(int64_t job_id) {
 }
 
 std::optional<int64_t> DeviceWorker::claim_ready(const std::string& reason) {
+  return claim_ready([&reason](const Job&) { return reason; });
+}
+
+std::optional<int64_t> DeviceWorker::claim_ready(const std::function<std::string(const Job&)>& reason) {
   std::lock_guard claim(claim_mutex());
   JobFilter filter;
   filter.state = JobState::ready;
@@ -132,12 +144,13 @@ std::optional<int64_t> DeviceWorker::claim_ready(const std::string& reason) {
   auto ready = jobs_.store().list(filter);
   for (auto it = ready.rbegin(); it != ready.rend(); ++it) {  // oldest first
     if (!takes(it->kind)) continue;
+    const bool own_start = autostarts(*it);  // may read the job's sidecar: not under mu_
     {
       std::lock_guard lock(mu_);
-      if (!config_.autostart && !armed_.count(it->id)) continue;
+      if (!own_start && !armed_.count(it->id)) continue;
       armed_.erase(it->id);
     }
-    jobs_.transition(it->id, JobState::running, reason, config_.name);
+    jobs_.transition(it->id, JobState::running, reason(*it), config_.name);
     return it->id;
   }
   return std::nullopt;

@@ -39,8 +39,8 @@ class DeviceWorker : public Device {
   const DeviceConfig& config() const override { return config_; }
   nlohmann::json describe() const override;
   void wake() override;
-  // Arms a ready job of this device's kinds.
-  void start(int64_t job_id) override;
+  // Arms a ready job of this device's kinds; `options` go to accept_start() first.
+  void start(int64_t job_id, const StartOptions& options = {}) override;
   // Cancels a ready job at once; a running job is handed to cancel_running().
   bool cancel(int64_t job_id) override;
   // Stops the worker: stopping_ is set and abort_running() ends the current job (which a
@@ -65,6 +65,10 @@ class DeviceWorker : public Device {
   // back (a frame asked for hours ago). Called with mu_ held. Armed jobs are dropped by the
   // base.
   virtual void forget_requests() {}
+  // `atelierctl start` with `options` for the ready `job`: checks them and keeps what the job
+  // will run with; throws BadInput naming the job and the values, and then the job is not
+  // armed. The base refuses any option (only knitting machines take them).
+  virtual void accept_start(const Job& job, const StartOptions& options);
   // Throws std::runtime_error if the machine is offline (start and frame need it present).
   void require_online() const;
   // Extra fields for describe() (e.g. the knitting machine model). Called with mu_ held.
@@ -99,6 +103,8 @@ class DeviceWorker : public Device {
   // The oldest ready job this device may take now (autostart, or armed), marked running with
   // `reason` under the claim lock; nullopt if none.
   std::optional<int64_t> claim_ready(const std::string& reason);
+  // The same, with the reason made for the job taken (e.g. naming its start row).
+  std::optional<int64_t> claim_ready(const std::function<std::string(const Job&)>& reason);
   void set_state(const std::string& state, const std::string& detail);
   void set_detail(const std::string& detail);
   // What the device did last that an operator should see after it is idle again (e.g. a

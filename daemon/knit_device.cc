@@ -6,6 +6,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "base/error.h"
+#include "convert/common/job_start.h"
+#include "convert/common/param_table.h"
 #include "convert/kinds.h"
 #include "convert/knit/knit_order.h"
 #include "convert/lace/lace_chart_json.h"
@@ -66,15 +68,102 @@ LaceChartFile read_chart(const fs::path& dir, std::string_view file_name) {
   return lace_chart_from_json_text(text.str(), file.string());
 }
 
+// The job's own start keys: its sidecar NAME.EXT.toml, or for a job-file kind (lace) the
+// job file itself, in its output folder. None when there is no such file.
+JobStart read_job_start(const Job& job) {
+  // Still in work/<id>/ while its conversion ends (the scheduler asks what it waits for).
+  const fs::path dir = job.output_dir.empty() ? fs::path(job.work_dir) : fs::path(job.output_dir);
+  if (dir.empty()) return {};
+  const fs::path file = converts_job_file(job.kind) ? dir / job.name : dir / (job.name + ".toml");
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return {};
+  toml::table table;
+  try {
+    table = toml::parse_file(file.string());
+  } catch (const toml::parse_error& e) {
+    throw BadInput(toml_error_text(e, file.string()));
+  }
+  return take_job_start(table, file.string());
+}
+
 }  // namespace
 
-KnitDevice::JobPlan KnitDevice::plan_job(const Job& job) const {
+bool KnitDevice::autostarts(const Job& job) const {
+  if (config_.autostart) return true;
+  try {
+    return read_job_start(job).autostart.value_or(false);
+  } catch (const std::exception&) {
+    return false;  // a sidecar that no longer reads: the knitter starts it (and hears why)
+  }
+}
+
+KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOptions& options,
+                                                 bool check_row) const {
+  const std::string tag = job_tag(job.id);
+  JobStart own;
+  try {
+    own = read_job_start(job);
+  } catch (const std::exception& e) {
+    throw BadInput(tag + ": " + e.what());
+  }
+  ChosenStart out;
+  const ayab::MachineType machine = *ayab::machine_from_name(config_.machine);
+  const int needles = ayab::needle_count(machine);
+  const std::optional<std::string> needle_text = options.start_needle ? options.start_needle : own.start_needle;
+  const std::string needle_from = options.start_needle ? "--start-needle " : "start_needle ";
+  if (needle_text) {
+    std::string problem;
+    out.start_needle = parse_bed_needle(*needle_text, needles, &problem);
+    if (!out.start_needle)
+      throw BadInput(tag + ": " + needle_from + *needle_text + " is not a needle of the " + config_.machine +
+                     " (" + config_.name + "): " + problem);
+  }
+  JobPlan sized;  // at needle 0 (fits whenever the pattern is not wider than the bed): rows, width
+  try {
+    sized = plan_job(job, 0);
+  } catch (const std::exception& e) {
+    throw BadInput(tag + ": " + e.what());
+  }
+  const bool lace = is_lace(job.kind);
+  const int rows = sized.rows();
+  const std::optional<int> row = options.from_row ? options.from_row : own.start_row;
+  const std::string row_from = options.from_row ? "--from-row " : "start_row ";
+  if (check_row && row) {
+    if (*row < 1 || *row > rows)
+      throw BadInput(tag + ": " + row_from + std::to_string(*row) + " is outside the " +
+                     (lace ? "chart" : "pattern") + " (rows 1 to " + std::to_string(rows) + ")");
+    out.from_row = *row;
+  }
+  const int width = sized.plan.stop_needle - sized.plan.start_needle + 1;
+  if (out.start_needle && *out.start_needle + width > needles) {
+    const int last = needles - width;  // the rightmost needle the pattern may start on
+    throw BadInput(tag + ": " + needle_from + *needle_text + " puts the " + (lace ? "lace's " : "pattern's ") +
+                   std::to_string(width) + " stitches on needles " + bed_needle_name(*out.start_needle, needles) +
+                   " to " + bed_needle_name(*out.start_needle + width - 1, needles) + ", off the " +
+                   config_.machine + "'s bed (" + bed_needle_name(0, needles) + " to " +
+                   bed_needle_name(needles - 1, needles) + "); start it on " + bed_needle_name(0, needles) +
+                   " to " + bed_needle_name(last, needles));
+  }
+  if (out.from_row > 1) out.text = "from " + std::string(lace ? "chart row " : "row ") + std::to_string(out.from_row);
+  if (out.start_needle)
+    out.text += (out.text.empty() ? "" : ", ") + std::string("needles ") + bed_needle_name(*out.start_needle, needles) +
+                " to " + bed_needle_name(*out.start_needle + width - 1, needles);
+  return out;
+}
+
+void KnitDevice::accept_start(const Job& job, const StartOptions& options) {
+  ChosenStart chosen = choose_start(job, options);
+  std::lock_guard lock(mu_);
+  starts_[job.id] = std::move(chosen);
+}
+
+KnitDevice::JobPlan KnitDevice::plan_job(const Job& job, std::optional<int> start_needle) const {
   JobPlan out;
   const KindInfo& kind = knitted_kind(job.kind);
   if (kind.machine_input == MachineInput::lace_chart) {
     const LaceChartFile chart = read_chart(job.output_dir, kind.machine_file);
     ayab::LacePlanResult res =
-        ayab::plan_lace(chart.chart, chart.cast_on, chart.repeats_wide, chart.repeats_high, plan_params());
+        ayab::plan_lace(chart.chart, chart.cast_on, chart.repeats_wide, chart.repeats_high, plan_params(start_needle));
     if (!res.plan) {
       std::string why = "the lace carriage cannot knit this chart: " + res.problems.front();
       if (res.problems.size() > 1) why += "; " + std::to_string(res.problems.size() - 1) + " more in report.json";
@@ -91,7 +180,7 @@ KnitDevice::JobPlan KnitDevice::plan_job(const Job& job) const {
     if (image.empty()) throw BadInput(file.string() + " cannot be read");
     cv::Mat pattern = image < 128;  // black = contrast = 1
     pattern /= 255;
-    ayab::PlanParams params = plan_params();
+    ayab::PlanParams params = plan_params(start_needle);
     params.first_row_top = job_knits_top_row_first(job.output_dir);  // as its chart.pdf says
     out.plan = ayab::plan_knitting(pattern, params);
     for (int r = 0; r < pattern.rows; ++r) out.row_start.push_back(r * out.plan.passes_per_row);
@@ -115,6 +204,7 @@ void KnitDevice::abort_running() {
 
 bool KnitDevice::cancel_running(int64_t job_id) {
   resumes_.erase(job_id);
+  starts_.erase(job_id);
   if (current_ != job_id || !cancel_flag_) return false;
   cancel_flag_->store(true);
   if (waiting_link_) waiting_link_->close();  // still waiting for the carriage: stop now
@@ -130,9 +220,15 @@ void KnitDevice::resume(int64_t job_id, int from_row) {
   if (from_row == 0)
     throw BadInput("say which row to continue from: atelierctl resume " +
                              std::to_string(job_id) + " --from-row N");
+  std::optional<int> placement;
+  {
+    std::lock_guard lock(mu_);
+    if (auto it = placements_.find(job_id); it != placements_.end()) placement = it->second;
+  }
   int rows = 0;
   try {
-    rows = plan_job(*job).rows();
+    if (!placement) placement = choose_start(*job, {}, /*check_row=*/false).start_needle;
+    rows = plan_job(*job, placement).rows();
   } catch (const std::exception& e) {
     throw BadInput(job_tag(job_id) + ": " + e.what());
   }
@@ -146,11 +242,12 @@ void KnitDevice::resume(int64_t job_id, int from_row) {
   wake();
 }
 
-ayab::PlanParams KnitDevice::plan_params() const {
+ayab::PlanParams KnitDevice::plan_params(std::optional<int> start_needle) const {
   ayab::PlanParams p;
   p.machine = *ayab::machine_from_name(config_.machine);
   p.mode = *ayab::knit_mode_from_name(config_.mode);
   if (config_.start_needle > 0) p.start_needle = config_.start_needle - 1;
+  if (start_needle) p.start_needle = *start_needle;  // the job's own placement
   p.mirror = config_.mirror;
   return p;
 }
@@ -165,7 +262,10 @@ std::optional<KnitDevice::Work> KnitDevice::next_work() {
         auto [id, row] = *resumes_.begin();
         resumes_.erase(resumes_.begin());
         auto job = jobs_.store().get(id);
-        if (job && job->state == JobState::interrupted) work = Work{id, row};
+        if (job && job->state == JobState::interrupted) {
+          work = Work{id, row, std::nullopt, ""};
+          if (auto it = placements_.find(id); it != placements_.end()) work->start_needle = it->second;
+        }
       }
     }
     if (work) {
@@ -175,8 +275,31 @@ std::optional<KnitDevice::Work> KnitDevice::next_work() {
       return work;
     }
   }
-  if (auto id = claim_ready("knitting on " + config_.name)) return Work{*id, 1};
-  return std::nullopt;
+  Work work{0, 1, std::nullopt, ""};
+  auto id = claim_ready([&](const Job& job) {
+    std::optional<ChosenStart> chosen;
+    {
+      std::lock_guard lock(mu_);
+      if (auto it = starts_.find(job.id); it != starts_.end()) {
+        chosen = std::move(it->second);
+        starts_.erase(it);
+      }
+    }
+    if (!chosen) {  // started on its own (autostart): its sidecar keys are checked now
+      try {
+        chosen = choose_start(job, {});
+      } catch (const std::exception& e) {
+        work.refused = e.what();
+        return "knitting on " + config_.name;
+      }
+    }
+    work.from_row = chosen->from_row;
+    work.start_needle = chosen->start_needle;
+    return "knitting on " + config_.name + (chosen->text.empty() ? "" : " " + chosen->text);
+  });
+  if (!id) return std::nullopt;
+  work.id = *id;
+  return work;
 }
 
 bool KnitDevice::run_next() {
@@ -210,6 +333,14 @@ void KnitDevice::knit(const Work& work) {
   if (stopping()) cancel = true;  // stop() came between the claim and now
 
   set_state("busy", job_tag(id));
+  if (!work.refused.empty()) {
+    jobs_.transition(id, JobState::failed, work.refused);  // nothing was sent
+    return;
+  }
+  {
+    std::lock_guard lock(mu_);
+    placements_[id] = work.start_needle;
+  }
 
   // Rows knitted so far, counted from 1 as the knitter counts them.
   int rows_done = work.from_row - 1;
@@ -219,7 +350,7 @@ void KnitDevice::knit(const Work& work) {
   // move them again. Said with the resume hint.
   std::string in_progress;
   try {
-    const JobPlan job_plan = plan_job(*job);
+    const JobPlan job_plan = plan_job(*job, work.start_needle);
     const ayab::KnitPlan& plan = job_plan.plan;
     const int total_rows = job_plan.rows();
     jobs_.store().set_progress(id, rows_done, total_rows);

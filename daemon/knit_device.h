@@ -52,12 +52,29 @@ class KnitDevice : public DeviceWorker {
   ~KnitDevice() override;
 
   void resume(int64_t job_id, int from_row) override;
+  // The device's autostart, or the job's own `autostart = true` (its sidecar or job file).
+  bool autostarts(const Job& job) const override;
 
  private:
+  // Where a job begins: its row and the needle of its leftmost stitch.
+  struct ChosenStart {
+    int from_row = 1;                 // 1-based, in knitting order
+    std::optional<int> start_needle;  // 0-based; none: the device's start_needle, or centred
+    std::string text;                 // "from row 5, needles L20 to R39"; "" for the defaults
+  };
   struct Work {
     int64_t id;
     int from_row;  // 1-based pattern row to start at
+    std::optional<int> start_needle;  // 0-based leftmost needle; none: plan_params()'s
+    std::string refused;              // non-empty: the job's start cannot be (fail it)
   };
+  // `atelierctl start` options over the job's own keys (convert/common/job_start.h), checked
+  // against its plan; `check_row` false ignores the row (a resume names its own). Throws
+  // BadInput "job 12: ..." naming the values: a row outside the pattern, a needle that is
+  // not on the bed or puts the pattern off it, an unreadable sidecar.
+  ChosenStart choose_start(const Job& job, const StartOptions& options, bool check_row = true) const;
+  void accept_start(const Job& job, const StartOptions& options) override;
+  void forget_requests() override { starts_.clear(); }
   bool run_next() override;
   bool cancel_running(int64_t job_id) override;
   void abort_running() override;
@@ -68,7 +85,7 @@ class KnitDevice : public DeviceWorker {
   // The job stopped on purpose (cancel, or the daemon stopping): canceled, or interrupted
   // when the daemon stops (so it is never resumed without an operator).
   void end_early(int64_t id, int rows_done, bool knitting_started, const std::string& in_progress = "");
-  ayab::PlanParams plan_params() const;
+  ayab::PlanParams plan_params(std::optional<int> start_needle = std::nullopt) const;
   // What the job knits: its passes and where each row (counted from 0) starts.
   struct JobPlan {
     ayab::KnitPlan plan;
@@ -77,7 +94,7 @@ class KnitDevice : public DeviceWorker {
   };
   // Throws std::runtime_error: unreadable input, a pattern that does not fit, a lace chart
   // the lace carriage cannot do (then the message is the job's whole failure reason).
-  JobPlan plan_job(const Job& job) const;
+  JobPlan plan_job(const Job& job, std::optional<int> start_needle = std::nullopt) const;
 
   Opener open_;
   ayab::SessionTimeouts timeouts_;
@@ -89,6 +106,9 @@ class KnitDevice : public DeviceWorker {
   // Null while rows are being knitted: then cancel ends cleanly after the current row.
   Transport* waiting_link_ = nullptr;
   std::map<int64_t, int> resumes_;  // job -> from_row
+  std::map<int64_t, ChosenStart> starts_;  // armed by `atelierctl start`: where each begins
+  // The needle placement each job started with, so that a resume knits on the same needles.
+  std::map<int64_t, std::optional<int>> placements_;
 };
 
 }  // namespace atelier

@@ -43,6 +43,7 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -53,6 +54,7 @@
 
 #include "base/cli_parse.h"
 #include "convert/convert.h"
+#include "convert/common/job_start.h"
 #include "convert/kinds.h"
 #include "convert/common/memory_budget.h"
 #include "convert/common/display_text.h"
@@ -241,6 +243,13 @@ int main(int argc, char** argv) {
     auto mark = [&paths](const toml::table& layer, const std::string& source, const fs::path& base) {
       for (const auto& [k, v] : layer) paths.mark_from_job(std::string(k.str()), source, base);
     };
+    // A knitting job's own file may say how it starts on the machine (autostart, start_row,
+    // start_needle: convert/common/job_start.h); atelierd reads those, the conversion does not.
+    const std::vector<std::string> knitted = atelier::kinds_for_driver(atelier::kAyabDriver);
+    const bool knitted_kind = std::find(knitted.begin(), knitted.end(), kind) != knitted.end();
+    auto take_start_keys = [knitted_kind](toml::table& layer, const std::string& source) {
+      if (knitted_kind) atelier::take_job_start(layer, source);
+    };
     if (!params_file.empty()) {
       toml::table layer = parse_toml_file(params_file);
       atelier::validate_kind_params(kind, layer, params_file);
@@ -267,6 +276,7 @@ int main(int argc, char** argv) {
                            "parameters (NAME.toml), not an image");
       } else {
         toml::table layer = parse_toml_file(in.string());
+        take_start_keys(layer, in.string());
         atelier::validate_kind_params(kind, layer, in.string());
         mark(layer, in.string(), in.parent_path());
         atelier::merge_into(params, layer);
@@ -279,6 +289,7 @@ int main(int argc, char** argv) {
       sidecar += ".toml";
       if (in.extension() != ".toml" && fs::is_regular_file(sidecar, ec)) {
         toml::table layer = parse_toml_file(sidecar.string());
+        take_start_keys(layer, sidecar.string());
         atelier::validate_kind_params(kind, layer, sidecar.string());
         mark(layer, sidecar.string(), sidecar.parent_path());
         atelier::merge_into(params, layer);

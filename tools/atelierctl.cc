@@ -243,8 +243,17 @@ int main(int argc, char** argv) {
   submit->add_option("FILE", file, "input file")->required()->check(CLI::ExistingFile);
   submit->add_option("--kind", kind, "job kind (knit, lace, embroidery, ...)")->required();
   add_sets(submit);
-  auto* start = app.add_subcommand("start", "arm a ready job (laser)");
+  auto* start = app.add_subcommand(
+      "start", "arm a ready job (knitting: the knitter has cast on; laser: the sheet is in)");
   add_id(start);
+  std::int64_t start_row = 0;
+  std::string start_needle;
+  start->add_option("--from-row", start_row, "knitting: begin at this row (1 = the first row knitted)")
+      ->check(integer_at_least(1));
+  start->add_option("--start-needle", start_needle,
+                    "knitting: needle of the pattern's leftmost stitch: L20, R5 (the bed's markings) or 30 "
+                    "(counted from the left end)")
+      ->type_name("NEEDLE");
   auto* cancel = app.add_subcommand("cancel", "cancel a job, or with --all every unfinished job");
   auto* cancel_id = cancel->add_option("ID", id, "job id")->check(integer_at_least(1));
   cancel->add_flag("--all", all, "every queued, converting, ready and running job")->excludes(cancel_id);
@@ -339,7 +348,10 @@ int main(int argc, char** argv) {
                          : retry->parsed()  ? "retry"
                          : hold->parsed()   ? "hold"
                                             : "frame";
-      cmd = Command{verb, {{"id", id}}, false, render_job_or_value};
+      json verb_args = {{"id", id}};
+      if (start->parsed() && start_row > 0) verb_args["from_row"] = start_row;
+      if (start->parsed() && !start_needle.empty()) verb_args["start_needle"] = start_needle;
+      cmd = Command{verb, verb_args, false, render_job_or_value};
     } else if (resume->parsed()) {
       json resume_args = {{"id", id}};
       if (from_row > 0) resume_args["from_row"] = from_row;

@@ -109,6 +109,13 @@ TEST(E2EAtelierctl, ALaserJobTellsTheOperatorWhatHappensAsItHappens) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("estimated:"), std::string::npos) << r.out;  // from its report.json
 
+  // The knitting options are refused clearly, and the job stays ready for a plain start.
+  r = ctl(daemon, {"start", id, "--from-row", "3"});
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find("job " + id + ": laser is not a knitting machine; --from-row and --start-needle are for knit"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(daemon.job_named("box.svg")["state"], "ready");
+
   auto watcher = watch(daemon, tmp.path() / "watch.log");
   // Confirmed as it is after the start: running, not the waiting reason from before.
   r = ctl(daemon, {"start", id});

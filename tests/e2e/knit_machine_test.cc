@@ -29,7 +29,7 @@ struct Rig {
       : emulator(row_ms, fault_options(faults)) {
     daemon = std::make_unique<DaemonProcess>(
         tmp.path(), knit_toml + "[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\nport = \"" +
-                        emulator.link().string() + "\"\nmachine = \"kh930\"\n" + device_extra);
+                        emulator.link().string() + "\"\nmachine = \"kh930\"\nautostart = true\n" + device_extra);
     daemon->start();
   }
   static std::vector<std::string> fault_options(const std::vector<std::string>& faults) {

@@ -66,7 +66,8 @@ struct KnitterRig {
   explicit KnitterRig(const std::string& lace_toml) {
     daemon = std::make_unique<DaemonProcess>(
         tmp.path(), "[lace]\n" + lace_toml + "[[device]]\nname = \"knitter\"\ndriver = \"ayab\"\nport = \"" +
-                        emulator.link().string() + "\"\nmachine = \"kh930\"\nkinds = [\"knit\", \"lace\"]\n");
+                        emulator.link().string() + "\"\nmachine = \"kh930\"\nkinds = [\"knit\", \"lace\"]\n"
+                        "autostart = true\n");
     daemon->start();
   }
   std::vector<std::string> recorded() const { return emulator.recorded(); }

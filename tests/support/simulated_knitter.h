@@ -28,6 +28,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/fake_clock.h"
@@ -63,6 +64,11 @@ class SimulatedKnitter {
   std::vector<std::string> recorded() const {
     std::lock_guard lock(mu_);
     return rows_;
+  }
+  // The working range (first, last needle, 0-based) of each recorded row.
+  std::vector<std::pair<int, int>> ranges() const {
+    std::lock_guard lock(mu_);
+    return ranges_;
   }
   int opened() const {
     std::lock_guard lock(mu_);
@@ -143,6 +149,7 @@ class SimulatedKnitter {
     {
       std::lock_guard lock(mu_);
       rows_.push_back(row.needles);
+      ranges_.emplace_back(row.start_needle, row.stop_needle);
     }
     const auto& drop = faults_.drop_after_row;
     if (drop && row.number == *drop) drop_pending_ = true;
@@ -160,6 +167,7 @@ class SimulatedKnitter {
   bool drop_pending_ = false;
   mutable std::mutex mu_;
   std::vector<std::string> rows_;
+  std::vector<std::pair<int, int>> ranges_;
   int opened_ = 0;
   int dtr_pulses_ = 0;
 };

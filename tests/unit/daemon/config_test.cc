@@ -205,7 +205,7 @@ TEST(Config, AKnittingMachineHasDefaultsAndIsChecked) {
   const auto& d = c.devices[0];
   EXPECT_EQ(d.machine, "kh930");
   EXPECT_EQ(d.kinds, std::vector<std::string>{"knit"});
-  EXPECT_TRUE(d.autostart);
+  EXPECT_FALSE(d.autostart);  // one piece at a time: the knitter starts each job
   EXPECT_EQ(d.mode, "single-bed");
   EXPECT_EQ(d.start_needle, -1);
   std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"k\"\ndriver = \"ayab\"\n");

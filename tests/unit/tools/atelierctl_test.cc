@@ -414,6 +414,20 @@ TEST_F(AtelierctlTest, IdVerbsSendIntegerIds) {
             (json{{"verb", "resume"}, {"args", {{"id", 5}, {"from_row", 17}}}}));
 }
 
+TEST_F(AtelierctlTest, StartSendsTheKnittersRowAndNeedle) {
+  daemon().respond([](const json&) { return ok(job(5, "cat.jpg", "ready")); });
+  CtlRun r = ctl(sock() + "start 5 --from-row 12 --start-needle L20");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(daemon().requests().back(),
+            (json{{"verb", "start"}, {"args", {{"id", 5}, {"from_row", 12}, {"start_needle", "L20"}}}}));
+  r = ctl(sock() + "start 5 --start-needle 30");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(daemon().requests().back(), (json{{"verb", "start"}, {"args", {{"id", 5}, {"start_needle", "30"}}}}));
+  r = ctl(sock() + "start 5 --from-row 0");
+  EXPECT_EQ(r.exit_code, 2) << "rows are counted from 1";
+  EXPECT_EQ(daemon().requests().size(), 2u);
+}
+
 TEST_F(AtelierctlTest, ServerErrorExitsOneWithMessageOnStderr) {
   daemon().respond([](const json&) { return fail("no job with id 99"); });
   CtlRun r = ctl(sock() + "show 99");
