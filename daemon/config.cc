@@ -69,7 +69,8 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
     d.start_needle = static_cast<int>(r.get_int("start_needle", -1, -1, 200));
     if (d.start_needle == 0) r.fail("start_needle", "needles are numbered from 1");
     // The row order moved to the job: chart.pdf and pattern.k are drawn for it at conversion.
-    if (r.has("first_row"))
+    // A refused key, not a read one (t, not r: config/atelierd.toml does not document it).
+    if (t.contains("first_row"))
       r.fail("first_row", "the row order is now set per job: first_row = \"bottom\" (the default) or \"top\" "
                           "in [knit] or a job's sidecar, so chart.pdf and pattern.k are made in the order "
                           "the machine knits; remove it from [[device]]");
