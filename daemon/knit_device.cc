@@ -48,6 +48,13 @@ class CannotKnit : public BadInput {
   using BadInput::BadInput;
 };
 
+// The job cannot be planned at all (unreadable, wider than the bed, a chart the carriage
+// cannot do), whatever its start: knit() fails it with the plan's own reason.
+class CannotPlan : public BadInput {
+ public:
+  using BadInput::BadInput;
+};
+
 // What the knitting machine is fed for a job of `kind`: a lace chart or a stitch pattern.
 // BadInput for a kind no knitting machine knits.
 const KindInfo& knitted_kind(const std::string& kind) {
@@ -122,7 +129,7 @@ KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOpti
   try {
     sized = plan_job(job, 0);
   } catch (const std::exception& e) {
-    throw BadInput(tag + ": " + e.what());
+    throw CannotPlan(tag + ": " + e.what());
   }
   const bool lace = is_lace(job.kind);
   const int rows = sized.rows();
@@ -152,7 +159,12 @@ KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOpti
 }
 
 void KnitDevice::accept_start(const Job& job, const StartOptions& options) {
-  ChosenStart chosen = choose_start(job, options);
+  ChosenStart chosen;
+  try {
+    chosen = choose_start(job, options);
+  } catch (const CannotPlan&) {
+    // Armed all the same: knit() fails it before the port opens, with the plan's reason.
+  }
   std::lock_guard lock(mu_);
   starts_[job.id] = std::move(chosen);
 }
@@ -288,8 +300,14 @@ std::optional<KnitDevice::Work> KnitDevice::next_work() {
     if (!chosen) {  // started on its own (autostart): its sidecar keys are checked now
       try {
         chosen = choose_start(job, {});
+      } catch (const CannotPlan&) {
+        chosen = ChosenStart{};  // knit() fails it with the plan's own reason
       } catch (const std::exception& e) {
-        work.refused = e.what();
+        // "job 12: start_needle ..." said by the device, as its other failures are.
+        const std::string tag = job_tag(job.id) + ": ";
+        std::string why = e.what();
+        if (why.rfind(tag, 0) == 0) why.erase(0, tag.size());
+        work.refused = config_.name + ": " + why;
         return "knitting on " + config_.name;
       }
     }

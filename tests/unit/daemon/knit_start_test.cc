@@ -9,13 +9,18 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "algorithms/lace/chart.h"
+#include "convert/lace/lace_chart_json.h"
 #include "daemon/job_service.h"
 #include "daemon/knit_device.h"
 #include "drivers/ayab/knit_plan.h"
+#include "drivers/ayab/lace_plan.h"
 #include "tests/e2e/daemon_harness.h"
 #include "tests/support/job_watch.h"
+#include "tests/support/lace_test_charts.h"
 #include "tests/support/simulated_knitter.h"
 
 namespace atelier {
@@ -44,7 +49,7 @@ struct StartRig {
     d.driver = "ayab";
     d.port = "/dev/ttyKNIT";
     d.machine = "kh930";
-    d.kinds = {"knit"};
+    d.kinds = {"knit", "lace"};
     return d;  // autostart as a [[device]] without the key: no
   }();
   std::unique_ptr<KnitDevice> device;
@@ -68,12 +73,29 @@ struct StartRig {
     store.insert_job(job);
     return job.id;
   }
+  // A ready lace job: chart.json in its output folder, and its job file NAME.toml there (the
+  // job file is the lace job's sidecar: `own_keys` are its start keys).
+  int64_t add_lace_job(const lace::Chart& chart, int cast_on, int wide, int high, const std::string& own_keys = "") {
+    Job job;
+    job.id = store.reserve_id();
+    job.kind = "lace";
+    job.name = "lace.toml";
+    job.state = JobState::ready;
+    job.output_dir = (tmp.path() / "done" / std::to_string(job.id)).string();
+    std::filesystem::create_directories(job.output_dir);
+    std::ofstream(job.output_dir + "/chart.json") << lace_chart_to_json({chart, cast_on, wide, high}).dump();
+    std::ofstream(job.output_dir + "/lace.toml") << "kind = \"lace\"\n" << own_keys;
+    store.insert_job(job);
+    return job.id;
+  }
   KnitDevice& run() {
     device = std::make_unique<KnitDevice>(
         config, jobs, [this](const std::string&) { return machine.open(); },
         [port = config.port]() -> std::optional<std::string> { return port; }, ayab::SessionTimeouts{}, clock);
     device->start_worker();
     device->wake();
+    // A start needs the machine online: the worker's first look at the port says so.
+    while (device->describe()["state"] == "offline") std::this_thread::yield();
     return *device;
   }
   // The job's passes as the machine should knit them, placed with its leftmost stitch on
@@ -239,8 +261,8 @@ TEST(KnitStart, AnAutostartJobWhoseSidecarNeedleIsOffTheBedFailsSayingSoBeforeTh
   ASSERT_TRUE(rig.watch.wait_left(id, JobState::running));
   const Job job = *rig.store.get(id);
   EXPECT_EQ(job.state, JobState::failed);
-  EXPECT_THAT(job.reason, HasSubstr("job " + std::to_string(id) + ": start_needle R95 puts the pattern's 20 stitches "
-                                    "on needles R95 to R114, off the kh930's bed"));
+  EXPECT_THAT(job.reason, ::testing::StartsWith("knitter: start_needle R95 puts the pattern's 20 stitches "
+                                               "on needles R95 to R114, off the kh930's bed"));
   EXPECT_EQ(rig.machine.opened(), 0);
 }
 
@@ -260,6 +282,46 @@ TEST(KnitStart, AStartOfAJobWhoseSidecarRowIsBeyondThePatternIsRefusedNamingTheK
   ASSERT_TRUE(rig.watch.wait_left(id, JobState::running));
   EXPECT_EQ(rig.state(id), JobState::completed) << rig.store.get(id)->reason;
   EXPECT_EQ(rig.machine.recorded(), rig.expected(3, kCentre, 2));
+}
+
+TEST(KnitStart, ALaceJobStartsAtTheFirstPassOfItsChartRowOnTheNeedlesGiven) {
+  using namespace lace::test;
+  // Rows with different numbers of lace passes, so chart rows and passes do not line up.
+  const lace::Chart c{{row({"yo", "k", "k", "ssk"}), knit(4), row({"k2tog", "yo", "k", "k"})}};
+  StartRig rig;
+  const int64_t id = rig.add_lace_job(c, 4, 3, 1, "start_needle = \"L6\"\n");
+  KnitDevice& device = rig.run();
+  StartOptions options;
+  options.from_row = 3;  // the chart row; the needle is the job file's
+  device.start(id, options);
+  ASSERT_TRUE(rig.watch.wait_left(id, JobState::running));
+  const Job job = *rig.store.get(id);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  ayab::PlanParams params;
+  params.start_needle = 94;  // L6
+  const auto plan = ayab::plan_lace(c, 4, 3, 1, params);
+  ASSERT_TRUE(plan.plan);
+  size_t first = 0;  // the first pass of chart row 3
+  while (plan.plan->pattern_row[first] < 2) ++first;
+  std::vector<std::string> want;
+  for (size_t p = first; p < plan.plan->passes.size(); ++p) {
+    std::string line;
+    for (int n = plan.plan->start_needle; n <= plan.plan->stop_needle; ++n)
+      line.push_back(ayab::needle_selected(plan.plan->passes[p], n) ? '1' : '0');
+    want.push_back(line);
+  }
+  EXPECT_EQ(rig.machine.recorded(), want);
+  ASSERT_FALSE(rig.machine.ranges().empty());
+  EXPECT_EQ(rig.machine.ranges().front(), std::make_pair(94, 94 + 12 - 1));
+  StartOptions beyond;
+  beyond.from_row = 4;
+  const int64_t again = rig.add_lace_job(c, 4, 3, 1);
+  try {
+    device.start(again, beyond);
+    ADD_FAILURE() << "started";
+  } catch (const BadInput& e) {
+    EXPECT_EQ(std::string(e.what()), "job " + std::to_string(again) + ": --from-row 4 is outside the chart (rows 1 to 3)");
+  }
 }
 
 }  // namespace
