@@ -13,8 +13,7 @@
 //   last-line flag the firmware stops (state init) without a word.
 // - first run after boot: reqLine(0) right after cnfStart.
 // - faults: a garbled copy of a line (one needle byte flipped, so its CRC is bad); a firmware
-//   hung (as on a garbled SLIP escape) from the reqLine of a line on, until a DTR pulse (or for
-//   good); cnfInit / cnfStart answered 0x04 (garbled request) a few times.
+//   hung (as on a garbled SLIP escape) on receiving a line, until a DTR pulse (or for good); cnfInit / cnfStart answered 0x04 (garbled request) a few times.
 // Records each pass as the needles knitted (one '0'/'1' per needle of the working range).
 // Threading: used from the session's thread only; read results after the session is done.
 // Header-only.
@@ -35,7 +34,7 @@ struct CarriageScript {
   std::chrono::milliseconds step{2};            // one carriage step (one firmware position)
   std::chrono::milliseconds turn_mark{100};     // after cnfInit, the carriage passes the turn mark
   int garble_first_copy_of = -1;                // session line whose first cnfLine arrives garbled
-  int hang_at_line = -1;                        // hang when asking for this session line
+  int hang_at_line = -1;                        // hang on receiving this session line's cnfLine
   bool hang_before_ready = false;               // hang right after cnfInit (before the turn mark)
   bool hang_survives_reset = false;             // the hang needs a power cycle
   int init_garbled = 0;                         // cnfInit(0x04) this many times first
@@ -104,10 +103,6 @@ class CarriageFirmware : public SimulatedPeer {
     send(s);
   }
   void req_line() {
-    if (line_ == script_.hang_at_line) {
-      hung_ = true;
-      return;
-    }
     send(ayab::ReqLine{static_cast<uint8_t>(line_ & 0xFF), 0});
     requested_ = true;
   }
@@ -117,6 +112,10 @@ class CarriageFirmware : public SimulatedPeer {
     const auto id = static_cast<ayab::MsgId>(packet[0]);
     if (id == ayab::MsgId::cnfLine) {
       if (packet.size() < 25 + 5) return;
+      if (packet[1] == script_.hang_at_line) {
+        hung_ = true;  // as on a garbled SLIP escape inside this line: nothing more, until reset
+        return;
+      }
       cnf_lines_.push_back(packet[1]);
       ayab::Bytes copy = packet;
       if (packet[1] == script_.garble_first_copy_of) {
