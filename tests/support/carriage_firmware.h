@@ -39,6 +39,8 @@ struct CarriageScript {
   bool hang_survives_reset = false;             // the hang needs a power cycle
   int init_garbled = 0;                         // cnfInit(0x04) this many times first
   int start_garbled = 0;                        // cnfStart(0x04) this many times first
+  int slow_line = -1;                           // after asking for this session line, the firmware
+  std::chrono::milliseconds slow_for{0};        // reads its input only this much later (the carriage goes on)
   int pause_after_pass = -1;                    // the knitter stops after this pass ...
   std::chrono::milliseconds pause{0};           // ... for this long
 };
@@ -61,6 +63,10 @@ class CarriageFirmware : public SimulatedPeer {
   void receive(const uint8_t* data, size_t size, Clock::time_point now) override {
     advance(now);
     if (hung_) return;
+    if (slow_until_ && now < *slow_until_) {
+      held_.insert(held_.end(), data, data + size);
+      return;
+    }
     for (const ayab::Bytes& packet : dec_.feed(data, size)) handle(packet, now);
   }
   std::vector<uint8_t> take_output(Clock::time_point now) override {
@@ -105,6 +111,7 @@ class CarriageFirmware : public SimulatedPeer {
   void req_line() {
     send(ayab::ReqLine{static_cast<uint8_t>(line_ & 0xFF), 0});
     requested_ = true;
+    if (line_ == script_.slow_line) slow_until_ = next_step_.value_or(Clock::time_point{}) + script_.slow_for;
   }
 
   void handle(const ayab::Bytes& packet, Clock::time_point now) {
@@ -191,6 +198,11 @@ class CarriageFirmware : public SimulatedPeer {
     while (next_step_ && now >= *next_step_ && !hung_) {
       const auto at = *next_step_;
       next_step_ = at + script_.step;
+      if (slow_until_ && at >= *slow_until_) {  // the input held back is read now
+        slow_until_.reset();
+        const auto held = std::exchange(held_, {});
+        for (const ayab::Bytes& packet : dec_.feed(held.data(), held.size())) handle(packet, at);
+      }
       step(at);
     }
   }
@@ -236,6 +248,8 @@ class CarriageFirmware : public SimulatedPeer {
   std::vector<std::string> passes_;
   std::vector<int> cnf_lines_;
   int dtr_pulses_ = 0;
+  std::optional<Clock::time_point> slow_until_;
+  std::vector<uint8_t> held_;
 };
 
 }  // namespace atelier::test

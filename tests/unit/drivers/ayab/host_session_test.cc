@@ -556,6 +556,28 @@ TEST(AyabHostSession, AGarbledLineIsNeverCountedAsKnittedAndNamesThePass) {
   EXPECT_EQ(passes.size(), 4u) << "the session stopped at the end of the garbled pass";
 }
 
+TEST(AyabHostSession, ACarriageOnTheNeedlesBeforeItsLineArrivedIsNeverCountedAsKnitted) {
+  // The firmware reads line 2 only after the carriage is back on the needles: the pass knits the
+  // old line's needles first, then the new one's, and the firmware asks on as if all were well.
+  test::CarriageScript script;
+  script.slow_line = 2;
+  script.slow_for = 200ms;  // the carriage is back on the range after about 130 ms
+  CarriageRig rig(script);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(6);
+  KnitRun run;
+  try {
+    rig.s.knit(plan, 0, run.callback(), run.cancel);
+    FAIL() << "expected LineGarbled";
+  } catch (const LineGarbled& e) {
+    EXPECT_EQ(e.pass, 2);
+    EXPECT_TRUE(e.early);
+  }
+  ASSERT_FALSE(run.progress.empty());
+  EXPECT_EQ(run.progress.back().passes_done, 2);
+}
+
 TEST(AyabHostSession, AGarbledInitOrStartRequestIsAskedAgain) {
   // Firmware 1.0 answers a reqInit / reqStart whose CRC is bad with 0x04 and does nothing.
   test::CarriageScript script;
