@@ -366,7 +366,8 @@ void KnitDevice::knit(const Work& work) {
       return;
     }
     link->close();
-    if (cancel.load()) {
+    // Stopped while waiting for the last (empty) pass: every row is knitted all the same.
+    if (cancel.load() && rows_done < total_rows) {
       end_early(id, rows_done, true, in_progress);
     } else {
       jobs_.transition(id, JobState::completed,
