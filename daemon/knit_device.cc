@@ -483,8 +483,11 @@ void KnitDevice::knit(const Work& work) {
       link->close();
       jobs_.transition(id, JobState::interrupted,
                        row_word + std::to_string(row) +
-                           " was knitted from a line garbled on the cable (the machine did not ask for the next "
-                           "line after it): stop the carriage, unravel that row" +
+                           (e.early ? " was knitted before its line reached the machine (the carriage was pushed "
+                                      "too soon: wait for the beep)"
+                                    : " was knitted from a line garbled on the cable (the machine did not ask for "
+                                      "the next line after it)") +
+                           ": stop the carriage, unravel that row" +
                            (whole_rows ? " and put its stitches back as the row before left them" : "") +
                            ", then continue with: atelierctl resume " + std::to_string(id) + " --from-row " +
                            std::to_string(row));
@@ -514,7 +517,8 @@ void KnitDevice::knit(const Work& work) {
       return;
     }
     link->close();
-    if (cancel.load()) {
+    // Stopped while waiting for the last (empty) pass: every row is knitted all the same.
+    if (cancel.load() && rows_done < total_rows) {
       end_early(id, rows_done, true, in_progress);
     } else {
       jobs_.transition(id, JobState::completed,

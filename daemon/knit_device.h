@@ -15,6 +15,19 @@
 // silent: "device disconnected after row N"; `resume --from-row` continues; a lace chart row
 // stopped between its passes is named, as its stitches may be moved but not knitted) | failed (the
 // pattern does not fit, the firmware is too old, ...).
+// What the knitter should do is the running job's reason and the device's detail, in order:
+// "move the carriage over the left turn mark (set it to KC-I or KC-II)" (the board resets when
+// the port opens), "knitting row N of M" (lace: "knitting chart row N of M; next: lace
+// carriage"), "all M rows knitted; one more pass to finish: ..." (the blank last line's pass,
+// waited for), then completed.
+// A row the session cannot vouch for (ayab::LineGarbled: its line reached the firmware garbled,
+// or the carriage was on the needles before the line arrived) interrupts the job: "row N was
+// knitted from a line garbled on the cable ...: stop the carriage, unravel that row, then continue
+// with: atelierctl resume ID --from-row N" - the row is not counted. A board that stops
+// answering (ayab::MachineSilent; firmware 1.0 hangs on a garbled SLIP escape) is reset through
+// DTR and the job interrupted: "... stopped answering after row N (...); atelier reset it;
+// continue with: ..." ("... still does not answer: unplug it and plug it back" when the reset
+// did not help); hung before knitting started, it is reset once and the job goes on.
 // A board that refuses to start in the wrong state (not reset when the port opened, e.g. still
 // knitting for a daemon that was killed, on a board whose DTR auto-reset is disabled) is reset
 // once through DTR (Transport::pulse_dtr) and the handshake repeated; refused again, the job

@@ -228,9 +228,17 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
   // The firmware ended a pass at an indState received then: its reqLine must come next.
   std::optional<Clock::time_point> pass_ended_at;
   auto last_rx = clock_.now();
+  // The reqInfo sent after the last cnfLine has been answered: the line is in the buffer.
+  bool fenced = true;
+  auto too_early = [&]() -> LineGarbled {
+    const int pass = from_pass + tracker.expected() - 1;
+    return LineGarbled(pass, true, "the carriage was on the needles before line " +
+                                       std::to_string(tracker.expected() - 1) + " reached the knitting machine: pass " +
+                                       std::to_string(pass + 1) + " mixes it with the line before");
+  };
   auto garbled = [&]() -> LineGarbled {
     const int pass = from_pass + tracker.expected() - 1;
-    return LineGarbled(pass, "the knitting machine did not ask for the line after line " +
+    return LineGarbled(pass, false, "the knitting machine did not ask for the line after line " +
                                  std::to_string(tracker.expected() - 1) +
                                  " at the end of its pass: that line reached it garbled and pass " +
                                  std::to_string(pass + 1) + " was knitted from a wrong line");
@@ -267,12 +275,17 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     if (const auto* st = std::get_if<IndState>(&*m)) {
       // A report after the one that ended the pass, and no reqLine between: none will come.
       if (pass_ended_at) throw garbled();
+      if (!fenced && !ended && last_sent && watch.in_range(*st)) throw too_early();
       // Out of the knit state after the last line: the firmware has stopped knitting.
       if (ended && st->state != FsmState::knit) break;
       if (watch.on_state(*st) && last_sent) {
         if (ended) break;  // the blank line's pass: the firmware stops knitting here
         pass_ended_at = now;
       }
+      continue;
+    }
+    if (std::holds_alternative<CnfInfo>(*m)) {
+      fenced = true;
       continue;
     }
     const auto* req = std::get_if<ReqLine>(&*m);
@@ -287,6 +300,10 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
                       std::to_string(r.line & 0xFF));
     if (r.kind == LineTracker::Kind::repeat) {
       send(*last_sent);  // the firmware did not take our answer (e.g. wrong line number)
+      if (!ended) {
+        send(ReqInfo{});
+        fenced = false;
+      }
       continue;
     }
     watch.line_requested();
@@ -310,6 +327,10 @@ int HostSession::knit(const KnitPlan& plan, int from_pass, const std::function<v
     }
     send(line);
     last_sent = line;
+    if (!ended) {
+      send(ReqInfo{});  // the fence (see host_session.h)
+      fenced = false;
+    }
     if (ended && !canceled && events_.last_pass) events_.last_pass();
   }
 

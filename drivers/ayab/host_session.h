@@ -14,7 +14,11 @@
 // found by following the carriage (indState at every needle step, continuous reporting): a pass
 // that crossed the working range and ended (PassWatch) without the next reqLine right after
 // was knitted from a bad buffer. That pass is not counted; knit() throws LineGarbled naming it,
-// so no row that may be wrong is ever reported as knitted. The blank last line is the one whose
+// so no row that may be wrong is ever reported as knitted. Each cnfLine is followed by a reqInfo
+// as a fence: the firmware handles its input after the knit step that sends an indState, in
+// order, so every indState before the cnfInfo was sent while the old buffer was in place; one of
+// them on the working range means the carriage was pushed before the line arrived, and that
+// pass is reported the same way (LineGarbled::early). The blank last line is the one whose
 // garbling the host cannot see (a good one stops the firmware without a word, a bad one keeps it
 // knitting silently); it selects no needles, so at worst its one plain pass shows stray stitches.
 //
@@ -59,10 +63,13 @@ class AyabError : public DeviceError {
 // the line for it reached the firmware garbled (its needle buffer held the garbled copy, or the
 // previous line if the copy was cut short), so that pass was not knitted as planned. `pass` is
 // its index in the plan; passes before it were knitted as planned.
+// `early`: instead, the carriage was on the working range before the line was in the buffer
+// (pushed before the firmware had the line), so the pass mixes the old line and the new one.
 class LineGarbled : public AyabError {
  public:
-  LineGarbled(int pass, const std::string& message) : AyabError(message), pass(pass) {}
+  LineGarbled(int pass, bool early, const std::string& message) : AyabError(message), pass(pass), early(early) {}
   int pass;
+  bool early;
 };
 
 // The machine stopped answering (not even a reqInfo) while knitting, or while init() waited for

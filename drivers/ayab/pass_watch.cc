@@ -28,6 +28,12 @@ std::optional<int> firmware_pixel(MachineType machine, uint8_t position, Directi
 PassWatch::PassWatch(MachineType machine, int start_needle, int stop_needle)
     : machine_(machine), start_(start_needle), stop_(stop_needle) {}
 
+bool PassWatch::in_range(const IndState& s) const {
+  if (s.state != FsmState::knit) return false;
+  const auto pixel = firmware_pixel(machine_, s.position, s.direction, s.carriage);
+  return pixel && *pixel >= start_ && *pixel <= stop_;
+}
+
 bool PassWatch::on_state(const IndState& s) {
   if (s.state != FsmState::knit) return false;
   reporting_ = true;

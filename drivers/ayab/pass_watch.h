@@ -32,6 +32,9 @@ class PassWatch {
   // An indState of the knit state. True when this report is where the firmware ends the pass
   // (firmware 1.0 sends this indState, then at once reqLine or nothing).
   bool on_state(const IndState& s);
+  // The report puts the carriage on a needle of the working range (the firmware sets that
+  // needle's solenoid from its buffer as it sends the report).
+  bool in_range(const IndState& s) const;
   // Some knit-state indState has come since construction: the firmware reports the carriage.
   bool reporting() const { return reporting_; }
 

@@ -32,9 +32,17 @@ struct Rig {
                         emulator.link().string() + "\"\nmachine = \"kh930\"\nautostart = true\n" + device_extra);
     daemon->start();
   }
+  // The emulated knitter waits for the beep of an accepted line before each pass, as a knitter
+  // does; one who hears none pushes after knitter-patience-ms - by default here long enough
+  // that a loaded test machine's slow answer never makes a pass start before its line came.
   static std::vector<std::string> fault_options(const std::vector<std::string>& faults) {
     std::vector<std::string> out;
-    for (const auto& f : faults) out.insert(out.end(), {"--fault", f});
+    bool patience = false;
+    for (const auto& f : faults) {
+      out.insert(out.end(), {"--fault", f});
+      patience = patience || f.rfind("knitter-patience-ms=", 0) == 0;
+    }
+    if (!patience) out.insert(out.end(), {"--fault", "knitter-patience-ms=5000"});
     return out;
   }
 
@@ -129,7 +137,7 @@ TEST(E2EKnitMachine, CorruptedBytesNeverCountAWrongRowAsKnitted) {
   // Bytes the firmware receives are garbled at random. The real firmware knits a garbled line
   // (it copies it before checking the CRC, and never asks again), so the job may stop: what
   // the daemon counts as knitted must be exactly the pattern, and a stop must name the row.
-  Rig rig({"corrupt=0.02", "seed=7"}, "[knit]\nwidth = 40\n", /*row_ms=*/3, "autostart = true\n");
+  Rig rig({"corrupt=0.02", "seed=7", "knitter-patience-ms=100"}, "[knit]\nwidth = 40\n", /*row_ms=*/3, "autostart = true\n");
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
   ASSERT_TRUE(rig.daemon->wait_for([&] {
     auto j = rig.job("pic1.png");
@@ -144,7 +152,10 @@ TEST(E2EKnitMachine, CorruptedBytesNeverCountAWrongRowAsKnitted) {
             std::vector<std::string>(expected.begin(), expected.begin() + counted))
       << "a row counted as knitted differs from the pattern";
   if (job["state"] == "completed") {
-    EXPECT_EQ(record, expected);
+    // Every row of the pattern; after them only the empty last pass may have stray stitches
+    // (a garbled blank line is the one garbling the host cannot see: host_session.h).
+    ASSERT_GE(record.size(), expected.size());
+    EXPECT_EQ(std::vector<std::string>(record.begin(), record.begin() + static_cast<long>(expected.size())), expected);
   } else {
     const std::string reason = job["reason"];
     EXPECT_NE(reason.find("--from-row " + std::to_string(counted + 1)), std::string::npos) << reason;
@@ -153,7 +164,7 @@ TEST(E2EKnitMachine, CorruptedBytesNeverCountAWrongRowAsKnitted) {
 
 TEST(E2EKnitMachine, AGarbledLineInterruptsNamingTheRowAndResumeCompletesTheFabric) {
   // The 5th line (row 5) reaches the firmware garbled; the knitter pushes on regardless.
-  Rig rig({"corrupt-line=5"}, "[knit]\nwidth = 40\n", /*row_ms=*/20, "autostart = true\n");
+  Rig rig({"corrupt-line=5", "knitter-patience-ms=100"}, "[knit]\nwidth = 40\n", /*row_ms=*/20, "autostart = true\n");
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
   ASSERT_TRUE(rig.wait_state("pic1.png", "interrupted")) << rig.daemon->log();
   auto job = rig.job("pic1.png");

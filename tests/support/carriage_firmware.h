@@ -13,8 +13,7 @@
 //   last-line flag the firmware stops (state init) without a word.
 // - first run after boot: reqLine(0) right after cnfStart.
 // - faults: a garbled copy of a line (one needle byte flipped, so its CRC is bad); a firmware
-//   hung (as on a garbled SLIP escape) from the reqLine of a line on, until a DTR pulse (or for
-//   good); cnfInit / cnfStart answered 0x04 (garbled request) a few times.
+//   hung (as on a garbled SLIP escape) on receiving a line, until a DTR pulse (or for good); cnfInit / cnfStart answered 0x04 (garbled request) a few times.
 // Records each pass as the needles knitted (one '0'/'1' per needle of the working range).
 // Threading: used from the session's thread only; read results after the session is done.
 // Header-only.
@@ -35,11 +34,13 @@ struct CarriageScript {
   std::chrono::milliseconds step{2};            // one carriage step (one firmware position)
   std::chrono::milliseconds turn_mark{100};     // after cnfInit, the carriage passes the turn mark
   int garble_first_copy_of = -1;                // session line whose first cnfLine arrives garbled
-  int hang_at_line = -1;                        // hang when asking for this session line
+  int hang_at_line = -1;                        // hang on receiving this session line's cnfLine
   bool hang_before_ready = false;               // hang right after cnfInit (before the turn mark)
   bool hang_survives_reset = false;             // the hang needs a power cycle
   int init_garbled = 0;                         // cnfInit(0x04) this many times first
   int start_garbled = 0;                        // cnfStart(0x04) this many times first
+  int slow_line = -1;                           // after asking for this session line, the firmware
+  std::chrono::milliseconds slow_for{0};        // reads its input only this much later (the carriage goes on)
   int pause_after_pass = -1;                    // the knitter stops after this pass ...
   std::chrono::milliseconds pause{0};           // ... for this long
 };
@@ -62,6 +63,10 @@ class CarriageFirmware : public SimulatedPeer {
   void receive(const uint8_t* data, size_t size, Clock::time_point now) override {
     advance(now);
     if (hung_) return;
+    if (slow_until_ && now < *slow_until_) {
+      held_.insert(held_.end(), data, data + size);
+      return;
+    }
     for (const ayab::Bytes& packet : dec_.feed(data, size)) handle(packet, now);
   }
   std::vector<uint8_t> take_output(Clock::time_point now) override {
@@ -104,12 +109,9 @@ class CarriageFirmware : public SimulatedPeer {
     send(s);
   }
   void req_line() {
-    if (line_ == script_.hang_at_line) {
-      hung_ = true;
-      return;
-    }
     send(ayab::ReqLine{static_cast<uint8_t>(line_ & 0xFF), 0});
     requested_ = true;
+    if (line_ == script_.slow_line) slow_until_ = next_step_.value_or(Clock::time_point{}) + script_.slow_for;
   }
 
   void handle(const ayab::Bytes& packet, Clock::time_point now) {
@@ -117,6 +119,10 @@ class CarriageFirmware : public SimulatedPeer {
     const auto id = static_cast<ayab::MsgId>(packet[0]);
     if (id == ayab::MsgId::cnfLine) {
       if (packet.size() < 25 + 5) return;
+      if (packet[1] == script_.hang_at_line) {
+        hung_ = true;  // as on a garbled SLIP escape inside this line: nothing more, until reset
+        return;
+      }
       cnf_lines_.push_back(packet[1]);
       ayab::Bytes copy = packet;
       if (packet[1] == script_.garble_first_copy_of) {
@@ -192,6 +198,11 @@ class CarriageFirmware : public SimulatedPeer {
     while (next_step_ && now >= *next_step_ && !hung_) {
       const auto at = *next_step_;
       next_step_ = at + script_.step;
+      if (slow_until_ && at >= *slow_until_) {  // the input held back is read now
+        slow_until_.reset();
+        const auto held = std::exchange(held_, {});
+        for (const ayab::Bytes& packet : dec_.feed(held.data(), held.size())) handle(packet, at);
+      }
       step(at);
     }
   }
@@ -237,6 +248,8 @@ class CarriageFirmware : public SimulatedPeer {
   std::vector<std::string> passes_;
   std::vector<int> cnf_lines_;
   int dtr_pulses_ = 0;
+  std::optional<Clock::time_point> slow_until_;
+  std::vector<uint8_t> held_;
 };
 
 }  // namespace atelier::test

@@ -94,7 +94,7 @@ TEST(JobLogStory, AKnitJobTellsEachStateOnceWithItsFieldsAndAFewProgressLines) {
   EXPECT_THAT(lines, ::testing::Contains("job " + std::to_string(id) + " (knit): ready: converted; waiting for knitter"));
   EXPECT_THAT(lines, ::testing::Contains("job " + std::to_string(id) + " (knit, knitter): running: knitting on knitter"));
   EXPECT_THAT(lines, ::testing::Contains(StartsWith("job " + std::to_string(id) +
-                                                    " (knit, knitter): 50 %: knitted row 20 of 40")));
+                                                    " (knit, knitter): 50 %: knitting row 21 of 40")));
   EXPECT_EQ(lines.back(), "job " + std::to_string(id) + " (knit, knitter): completed: knitted 40 rows on knitter");
   EXPECT_EQ(lines.size(), 5u + 9u) << ::testing::PrintToString(lines);
 }

@@ -98,7 +98,8 @@ class Port {
   // Reads messages until one satisfies `want`; nullopt on link loss, or when nothing comes
   // for kHangGuardMs.
   template <class T>
-  std::optional<T> wait_for(const std::function<bool(const T&)>& want = [](const T&) { return true; }) {
+  std::optional<T> wait_for(const std::function<bool(const T&)>& want = [](const T&) { return true; },
+                            int guard_ms = kHangGuardMs) {
     for (;;) {
       for (auto& m : pending_) {
         if (auto* t = std::get_if<T>(&m); t && want(*t)) {
@@ -109,7 +110,7 @@ class Port {
       }
       pending_.clear();
       pollfd p{fd_, POLLIN, 0};
-      if (::poll(&p, 1, kHangGuardMs) <= 0) return std::nullopt;
+      if (::poll(&p, 1, guard_ms) <= 0) return std::nullopt;
       uint8_t buf[512];
       const ssize_t n = ::read(fd_, buf, sizeof buf);
       if (n <= 0) return std::nullopt;
@@ -270,7 +271,8 @@ void leave_knitting(const std::string& link) {
   init_and_start(port);
 }
 
-TEST(KnitEmuProgram, ClosingThePortDropsDtrAndRestartsTheFirmware) {
+// The reset edge is the open: closing drops DTR (and says so), the next open resets the board.
+TEST(KnitEmuProgram, ReopeningThePortResetsTheFirmware) {
   const fs::path dir = temp_dir("dtr");
   const std::string link = (dir / "ttyKNIT").string();
   Emulator emu({"--machine", "kh930", "--link", link, "--row-ms", "5", "--boot-ms", "0"});
@@ -283,11 +285,36 @@ TEST(KnitEmuProgram, ClosingThePortDropsDtrAndRestartsTheFirmware) {
   port.send(ab::ReqInit{ab::MachineType::kh930});
   auto init = port.wait_for<ab::CnfInit>();
   ASSERT_TRUE(init);
-  EXPECT_EQ(init->error, ab::err::success) << "the firmware was not restarted when the host went away";
+  EXPECT_EQ(init->error, ab::err::success) << "the firmware was not reset when the host opened the port";
   EXPECT_EQ(emu.stop(), 0);
   fs::remove_all(dir);
 }
 
+TEST(KnitEmuProgram, ABadSlipEscapeHangsTheBoardUntilTheHostOpensThePortAgain) {
+  const fs::path dir = temp_dir("hang");
+  const std::string link = (dir / "ttyKNIT").string();
+  Emulator emu({"--machine", "kh930", "--link", link, "--row-ms", "5", "--boot-ms", "0", "--fault",
+                "bad-escape-after-row=1"});
+  emu.ready_line();
+  {
+    Port port(link);
+    ASSERT_TRUE(port.ok());
+    init_and_start(port);
+    knit(port, {"10000000"}, 0);  // row 1, and its reqLine(1)
+    port.send(line(1, "01000000"));  // taken as ESC + an invalid byte: the board hangs
+    port.send(ab::ReqInfo{});
+    EXPECT_FALSE(port.wait_for<ab::CnfInfo>([](const ab::CnfInfo&) { return true; }, 300))
+        << "a hung board answered";
+  }
+  Port port(link);  // the open resets the board
+  ASSERT_TRUE(port.ok());
+  port.send(ab::ReqInfo{});
+  EXPECT_TRUE(port.wait_for<ab::CnfInfo>());
+  EXPECT_EQ(emu.stop(), 0);
+  fs::remove_all(dir);
+}
+
+// Without the auto-reset an open finds the firmware as the last host left it.
 TEST(KnitEmuProgram, WithNoDtrResetTheFirmwareStaysKnittingAndRefusesToStartAsFirmware1Does) {
   const fs::path dir = temp_dir("nodtr");
   const std::string link = (dir / "ttyKNIT").string();

@@ -383,7 +383,7 @@ TEST(AyabHostSession, CancelSendsTheBlankLastLineNextAndAFinalReqInfo) {
 
 TEST(AyabHostSession, StartErrorIsReported) {
   PeerScript script;
-  script.start_error = err::bad_argument;
+  script.start_error = err::needle_value_invalid;
   Rig rig(script);
   HostSession& s = rig.s;
   s.connect();
@@ -393,7 +393,7 @@ TEST(AyabHostSession, StartErrorIsReported) {
     s.knit(plan_of(3), 0, run.callback(), run.cancel);
     FAIL() << "expected AyabError";
   } catch (const AyabError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad arguments"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(error_text(err::needle_value_invalid)), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("80..119"), std::string::npos) << e.what();
   }
 }
@@ -554,6 +554,28 @@ TEST(AyabHostSession, AGarbledLineIsNeverCountedAsKnittedAndNamesThePass) {
   EXPECT_NE(passes[3], pass_needles(plan, 3)) << "the firmware model did not knit the garbled line";
   EXPECT_EQ(rig.peer->copies_of(3), 1) << "no blind re-send";
   EXPECT_EQ(passes.size(), 4u) << "the session stopped at the end of the garbled pass";
+}
+
+TEST(AyabHostSession, ACarriageOnTheNeedlesBeforeItsLineArrivedIsNeverCountedAsKnitted) {
+  // The firmware reads line 2 only after the carriage is back on the needles: the pass knits the
+  // old line's needles first, then the new one's, and the firmware asks on as if all were well.
+  test::CarriageScript script;
+  script.slow_line = 2;
+  script.slow_for = 200ms;  // the carriage is back on the range after about 130 ms
+  CarriageRig rig(script);
+  rig.s.connect();
+  rig.s.init(MachineType::kh930);
+  const KnitPlan plan = plan_of(6);
+  KnitRun run;
+  try {
+    rig.s.knit(plan, 0, run.callback(), run.cancel);
+    FAIL() << "expected LineGarbled";
+  } catch (const LineGarbled& e) {
+    EXPECT_EQ(e.pass, 2);
+    EXPECT_TRUE(e.early);
+  }
+  ASSERT_FALSE(run.progress.empty());
+  EXPECT_EQ(run.progress.back().passes_done, 2);
 }
 
 TEST(AyabHostSession, AGarbledInitOrStartRequestIsAskedAgain) {
