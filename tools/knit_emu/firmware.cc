@@ -157,6 +157,7 @@ void Firmware::h_req_start(const ab::Bytes& p) {
   pass_needles_.assign(static_cast<size_t>(stop_ - start_ + 1), '0');
   resting_since_ = now_;
   beepless_pushes_ = 0;
+  job_pushes_ = 0;
   beep_at_.reset();
   if (first_run_) {
     // The first knit() after power-on asks for line 0 at once.
@@ -443,6 +444,7 @@ void Firmware::turn_mark_move() {
 }
 
 void Firmware::push_pass() {
+  ++job_pushes_;
   beepless_pushes_ = beep_at_ ? 0 : beepless_pushes_ + 1;
   beep_at_.reset();
   const ab::MachineType m = fw_machine();
@@ -467,7 +469,8 @@ std::optional<int64_t> Firmware::next_push_ms() const {
   if (state_ != ab::FsmState::knit) return std::nullopt;
   const Faults& f = opt_.faults;
   if (beep_at_) return std::max(resting_since_, *beep_at_ + f.knitter_pause_ms);
-  if (beepless_pushes_ >= 2) return std::nullopt;  // waits for a beep
+  // The knitter starts a job on a beep, and after two pushes in a row with no beep waits for one.
+  if (job_pushes_ == 0 || beepless_pushes_ >= 2) return std::nullopt;
   const int64_t patience = f.knitter_patience_ms ? *f.knitter_patience_ms : 2 * opt_.row_ms;
   int64_t at = resting_since_ + patience;
   if (f.impatient_knitter) at = std::min(at, resting_since_ + f.knitter_pause_ms);

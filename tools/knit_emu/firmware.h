@@ -67,8 +67,9 @@
 //   (setNextLine), or after the reqStart beep when the firmware asks for no line (the blank
 //   pass of a second job); with no beep, knitter_patience_ms after the end of the previous pass
 //   (default 2 x row_ms); an impatient knitter pushes knitter_pause_ms after the end of each
-//   pass whatever it heard. After two pushes in a row with no beep heard between them the
-//   knitter waits for a beep. It never pushes outside the knit state.
+//   pass whatever it heard. A job's first pass waits for a beep, and after two pushes in a row
+//   with no beep heard between them the knitter waits for one. It never pushes outside the
+//   knit state.
 // - The record (the observer): every pass over the working range in knit state, with the
 //   needles it actually selected (the buffer's bit for each needle when the carriage set its
 //   solenoid), whatever the host thinks; `stale` says the firmware was still waiting for the
@@ -233,6 +234,7 @@ class Firmware {
   int64_t resting_since_ = 0;
   std::optional<int64_t> beep_at_;  // an accepted-line beep the knitter heard since it last pushed
   int beepless_pushes_ = 0;
+  int job_pushes_ = 0;  // passes pushed since reqStart
   std::string pass_needles_;
 
   int rows_ = 0;

@@ -306,6 +306,7 @@ TEST(KnitEmuProgram, ABadSlipEscapeHangsTheBoardUntilTheHostOpensThePortAgain) {
     EXPECT_FALSE(port.wait_for<ab::CnfInfo>([](const ab::CnfInfo&) { return true; }, 300))
         << "a hung board answered";
   }
+  EXPECT_NE(emu.next_line().find("DTR dropped"), std::string::npos);  // the emulator saw the close
   Port port(link);  // the open resets the board
   ASSERT_TRUE(port.ok());
   port.send(ab::ReqInfo{});

@@ -383,7 +383,7 @@ TEST(AyabHostSession, CancelSendsTheBlankLastLineNextAndAFinalReqInfo) {
 
 TEST(AyabHostSession, StartErrorIsReported) {
   PeerScript script;
-  script.start_error = err::needle_value_invalid;
+  script.start_error = err::needle_value_invalid;  // what firmware 1.0 answers a bad range
   Rig rig(script);
   HostSession& s = rig.s;
   s.connect();
@@ -393,7 +393,7 @@ TEST(AyabHostSession, StartErrorIsReported) {
     s.knit(plan_of(3), 0, run.callback(), run.cancel);
     FAIL() << "expected AyabError";
   } catch (const AyabError& e) {
-    EXPECT_NE(std::string(e.what()).find(error_text(err::needle_value_invalid)), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("invalid needle range (0x11)"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("80..119"), std::string::npos) << e.what();
   }
 }

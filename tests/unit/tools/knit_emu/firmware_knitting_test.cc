@@ -209,19 +209,24 @@ TEST(KnitEmuKnitting, TheKnitterPushesPauseMsAfterTheBeepAndAPassTakesRowMs) {
   EXPECT_FALSE(rig.fw.carriage_moving()) << "the pass took row-ms";
 }
 
-TEST(KnitEmuKnitting, APatientKnitterPushesAfterPatienceMsWithNoBeep) {
+TEST(KnitEmuKnitting, APatientKnitterPushesAfterPatienceMsWithNoBeepButStartsAJobOnlyOnOne) {
   FirmwareOptions o = opts(ab::MachineType::kh930, 100);
   o.faults.knitter_patience_ms = 300;
   Rig rig(o);
   rig.make_ready();
   rig.start(0, 9);
+  rig.advance(1000);
+  EXPECT_FALSE(rig.fw.carriage_moving()) << "the first pass of a job waits for the beep";
+  rig.send(rig.line(0, "11"));
+  ASSERT_TRUE(rig.run_until_sent<ab::ReqLine>());
+  ASSERT_TRUE(rig.run_until([&] { return !rig.fw.carriage_moving(); }));
   rig.advance(299);
   EXPECT_FALSE(rig.fw.carriage_moving());
   rig.advance(1);
-  EXPECT_TRUE(rig.fw.carriage_moving());
-  rig.run_until([] { return false; });
-  EXPECT_EQ(rig.rows.at(0).needles, std::string(10, '0')) << "the blank buffer reqStart left";
-  EXPECT_TRUE(rig.rows[0].stale);
+  EXPECT_TRUE(rig.fw.carriage_moving()) << "no line 1, no beep: pushed after 300 ms";
+  ASSERT_TRUE(rig.run_until([&] { return rig.rows.size() == 2; }));
+  EXPECT_EQ(rig.rows[1].needles, "1100000000") << "line 0 again";
+  EXPECT_TRUE(rig.rows[1].stale);
 }
 
 TEST(KnitEmuKnitting, AnImpatientKnitterKnitsTheOldBufferWhenTheHostIsSlow) {

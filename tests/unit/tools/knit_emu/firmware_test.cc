@@ -160,23 +160,26 @@ TEST(KnitEmuFirmware, ACnfLineOverwritesTheBufferBeforeItsCrcIsChecked) {
   Rig rig(opts());
   rig.make_ready();
   rig.start(0, 7);
-  ab::Bytes bad = ab::encode(rig.line(0, "11110000"));
+  rig.send(rig.line(0, "10000001"));
+  ASSERT_TRUE(rig.run_until_sent<ab::ReqLine>());
+  rig.take();
+  ab::Bytes bad = ab::encode(rig.line(1, "11110000"));
   bad.back() ^= 0x5A;
   rig.send_payload(bad);
   EXPECT_TRUE(rig.take().empty()) << "a bad CRC gets no answer";
   // No beep: the knitter waits its patience (2 row-times), then pushes: the garbled copy is
-  // knitted and the firmware, still waiting for line 0, asks for nothing.
-  EXPECT_TRUE(rig.run_until([&] { return !rig.rows.empty(); }));
-  EXPECT_EQ(rig.rows[0].needles, "11110000");
-  EXPECT_TRUE(rig.rows[0].stale);
+  // knitted and the firmware, still waiting for line 1, asks for nothing.
+  EXPECT_TRUE(rig.run_until([&] { return rig.rows.size() == 2; }));
+  EXPECT_EQ(rig.rows[1].needles, "11110000");
+  EXPECT_TRUE(rig.rows[1].stale);
   EXPECT_TRUE(all_of<ab::ReqLine>(rig.take()).empty()) << "the firmware never asks again";
-  // The good copy is still taken: line 0 was requested all along.
-  rig.send(rig.line(0, "00001111"));
+  // The good copy is still taken: line 1 was requested all along.
+  rig.send(rig.line(1, "00001111"));
   ASSERT_TRUE(rig.run_until_sent<ab::ReqLine>());
-  ASSERT_EQ(rig.rows.size(), 2u);
-  EXPECT_EQ(rig.rows[1].needles, "00001111");
-  EXPECT_FALSE(rig.rows[1].stale);
-  EXPECT_EQ(all_of<ab::ReqLine>(rig.take()).at(0).line, 1);
+  ASSERT_EQ(rig.rows.size(), 3u);
+  EXPECT_EQ(rig.rows[2].needles, "00001111");
+  EXPECT_FALSE(rig.rows[2].stale);
+  EXPECT_EQ(all_of<ab::ReqLine>(rig.take()).at(0).line, 2);
 }
 
 TEST(KnitEmuFirmware, AShortCnfLineChangesNothing) {
