@@ -26,7 +26,9 @@
 //   knitter-pause-ms=M    how soon after the beep of an accepted line the knitter pushes the next
 //                         pass (default 10)
 //   knitter-patience-ms=M how long a knitter who hears no beep waits before pushing anyway
-//                         (default 2 x row-ms); the pass then knits the buffer as it is
+//                         (default 2 x row-ms); the pass then knits the buffer as it is. A job's
+//                         first pass always waits for a beep; after two passes in a row with no
+//                         beep the knitter waits for one
 //   impatient-knitter     the knitter pushes knitter-pause-ms after the end of each pass without
 //                         waiting for any beep: a slow host means the old buffer is knitted
 #pragma once
