@@ -23,6 +23,7 @@
 // firmware that loses what arrives in its first --boot-ms (default 1000, the bootloader), back
 // in wait-for-machine with the carriage where it was; unless --fault no-dtr-reset, when the next
 // host finds the firmware as the last one left it. tools/emu/pty_link.h detects open and close.
+#include <algorithm>
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
@@ -43,6 +44,9 @@
 #include "tools/emu/pty_link.h"
 
 namespace {
+
+// The program's least default knitter patience (ms): see main().
+constexpr int64_t kKnitterPatienceFloorMs = 3000;
 
 using atelier::knit_emu::Faults;
 using atelier::knit_emu::Firmware;
@@ -102,7 +106,9 @@ int main(int argc, char** argv) {
       "  delay-ms=N            delay every reply by N ms\n"
       "  no-dtr-reset          do not reset when a host opens the port (auto-reset disabled)\n"
       "  knitter-pause-ms=M    the knitter pushes the next pass M ms after the beep (default 10)\n"
-      "  knitter-patience-ms=M with no beep, the knitter pushes after M ms (default 2 x row-ms)\n"
+      "  knitter-patience-ms=M with no beep, the knitter pushes after M ms (default 2 x row-ms,
+"
+      "                        at least 3000: a knitter waits a few seconds for the beep)\n"
       "  impatient-knitter     the knitter pushes pause ms after each pass, beep or not\n"
       "Otherwise the board resets each time a host opens the port (DTR) and loses --boot-ms of input.");
   if (auto stop = atelier::parse_command_line(app, argc, argv)) return *stop;
@@ -119,6 +125,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  // A knitter at a real machine waits a few seconds for the beep before pushing anyway; the
+  // model's own default (2 pass times) is for in-process tests on a simulated clock, where a
+  // host never lags. On a loaded box a host can take longer than two 10 ms passes to answer.
+  if (!faults.knitter_patience_ms) faults.knitter_patience_ms = std::max<int64_t>(2 * row_ms, kKnitterPatienceFloorMs);
+
   std::ofstream record;
   if (!record_path.empty()) {
     record.open(record_path, std::ios::app);
