@@ -113,7 +113,7 @@ void HostSession::init(MachineType machine) {
       if (!c) continue;
       // Wrong state: the firmware is initialised already (the port was opened without
       // resetting the board, e.g. after a previous job). It knows its machine; go on to start.
-      if (c->error >= err::wrong_state && c->error <= 0xEF) {
+      if (err::is_wrong_state(c->error)) {
         reset_ = false;
         return;
       }
@@ -179,7 +179,7 @@ void HostSession::start(const KnitPlan& plan) {
         deadline = clock_.now() + timeouts_.reply;
         continue;
       }
-      if (c->error >= err::wrong_state && c->error <= 0xEF) {
+      if (err::is_wrong_state(c->error)) {
         // Firmware 1.0 does not say which state it is in; what this session saw does.
         std::string state = error_text(c->error);
         if (state_seen_) state += ", last reported in state " + state_name(last_state_.state);

@@ -54,11 +54,6 @@ class AyabError : public DeviceError {
   using DeviceError::DeviceError;
 };
 
-// The firmware refused reqStart (cnfStart with an error). Firmware 1.0 answers 0xEF
-// (wrong_machine_state) outside its ready state, e.g. a board that was not reset when the port
-// opened and still knits an earlier session's pattern: resetting the board (Transport::pulse_dtr)
-// and a new connect/init/start may recover. what(): "the knitting machine refused to start:
-// <error and state>; <what to do>".
 // A pass crossed the working range and ended without the firmware asking for the next line:
 // the line for it reached the firmware garbled (its needle buffer held the garbled copy, or the
 // previous line if the copy was cut short), so that pass was not knitted as planned. `pass` is
@@ -73,18 +68,24 @@ class LineGarbled : public AyabError {
 };
 
 // The machine stopped answering (not even a reqInfo) while knitting, or while init() waited for
-// the carriage (passes_done 0); passes before `passes_done` were knitted. Firmware 1.0 hangs like this on a garbled SLIP escape until the board is reset.
+// the carriage (passes_done 0); passes before `passes_done` were knitted. Firmware 1.0 hangs
+// like this on a garbled SLIP escape until the board is reset.
 class MachineSilent : public AyabError {
  public:
   MachineSilent(int passes_done, const std::string& message) : AyabError(message), passes_done(passes_done) {}
   int passes_done;
 };
 
+// The firmware refused reqStart (cnfStart with an error). Firmware 1.0 answers 0xEF
+// (wrong_machine_state) outside its ready state, e.g. a board that was not reset when the port
+// opened and still knits an earlier session's pattern: resetting the board (Transport::pulse_dtr)
+// and a new connect/init/start may recover. what(): "the knitting machine refused to start:
+// <error and state>; <what to do>".
 class StartRefused : public AyabError {
  public:
   StartRefused(uint8_t code, const std::string& message) : AyabError(message), code(code) {}
   uint8_t code;
-  bool wrong_state() const { return code >= err::wrong_state && code <= 0xEF; }
+  bool wrong_state() const { return err::is_wrong_state(code); }
 };
 
 struct SessionTimeouts {
