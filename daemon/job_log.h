@@ -5,7 +5,7 @@
 //   job 12 (knit): converting
 //   job 12 (knit): ready: converted; waiting for knitter
 //   job 12 (knit, knitter): running: knitting on knitter
-//   job 12 (knit, knitter): 10 %: knitted row 20 of 200 ... (at most 9 such lines)
+//   job 12 (knit, knitter): 10 %: knitting row 21 of 200 ... (at most 9 such lines)
 //   job 12 (knit, knitter): completed: knitted 200 rows on knitter
 // One record per state change (with STATE= the state entered; failed and interrupted at
 // warning priority, the rest at info), one per new reason in the same state (a laser's
