@@ -106,8 +106,7 @@ int main(int argc, char** argv) {
       "  delay-ms=N            delay every reply by N ms\n"
       "  no-dtr-reset          do not reset when a host opens the port (auto-reset disabled)\n"
       "  knitter-pause-ms=M    the knitter pushes the next pass M ms after the beep (default 10)\n"
-      "  knitter-patience-ms=M with no beep, the knitter pushes after M ms (default 2 x row-ms,
-"
+      "  knitter-patience-ms=M with no beep, the knitter pushes after M ms (default 2 x row-ms,\n"
       "                        at least 3000: a knitter waits a few seconds for the beep)\n"
       "  impatient-knitter     the knitter pushes pause ms after each pass, beep or not\n"
       "Otherwise the board resets each time a host opens the port (DTR) and loses --boot-ms of input.");

@@ -105,7 +105,6 @@ struct StartRig {
     p /= 255;
     ayab::PlanParams params;
     params.start_needle = start;
-    params.first_row_top = config.first_row == "top";
     const ayab::KnitPlan plan = ayab::plan_knitting(p, params);
     std::vector<std::string> out;
     for (size_t i = static_cast<size_t>(from_row - 1); i < plan.passes.size(); ++i) {
