@@ -137,7 +137,7 @@ TEST(E2EKnitMachine, CorruptedBytesNeverCountAWrongRowAsKnitted) {
   // Bytes the firmware receives are garbled at random. The real firmware knits a garbled line
   // (it copies it before checking the CRC, and never asks again), so the job may stop: what
   // the daemon counts as knitted must be exactly the pattern, and a stop must name the row.
-  Rig rig({"corrupt=0.02", "seed=7", "knitter-patience-ms=100"}, "[knit]\nwidth = 40\n", /*row_ms=*/3, "autostart = true\n");
+  Rig rig({"corrupt=0.02", "seed=7", "knitter-patience-ms=100"}, "[knit]\nwidth = 40\n", /*row_ms=*/3);
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
   ASSERT_TRUE(rig.daemon->wait_for([&] {
     auto j = rig.job("pic1.png");
@@ -164,7 +164,7 @@ TEST(E2EKnitMachine, CorruptedBytesNeverCountAWrongRowAsKnitted) {
 
 TEST(E2EKnitMachine, AGarbledLineInterruptsNamingTheRowAndResumeCompletesTheFabric) {
   // The 5th line (row 5) reaches the firmware garbled; the knitter pushes on regardless.
-  Rig rig({"corrupt-line=5", "knitter-patience-ms=100"}, "[knit]\nwidth = 40\n", /*row_ms=*/20, "autostart = true\n");
+  Rig rig({"corrupt-line=5", "knitter-patience-ms=100"}, "[knit]\nwidth = 40\n", /*row_ms=*/20);
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
   ASSERT_TRUE(rig.wait_state("pic1.png", "interrupted")) << rig.daemon->log();
   auto job = rig.job("pic1.png");
@@ -194,7 +194,7 @@ TEST(E2EKnitMachine, AGarbledLineInterruptsNamingTheRowAndResumeCompletesTheFabr
 
 TEST(E2EKnitMachine, AHungBoardIsResetByTheDaemonAndResumeCompletesWithoutAReplug) {
   // After row 6 a garbled SLIP escape hangs the firmware (it answers nothing until reset).
-  Rig rig({"bad-escape-after-row=6"}, "[knit]\nwidth = 40\n", /*row_ms=*/3, "autostart = true\n");
+  Rig rig({"bad-escape-after-row=6"}, "[knit]\nwidth = 40\n", /*row_ms=*/3);
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "pic1.png");
   ASSERT_TRUE(rig.wait_state("pic1.png", "interrupted")) << rig.daemon->log();
   auto job = rig.job("pic1.png");
@@ -211,7 +211,7 @@ TEST(E2EKnitMachine, AHungBoardIsResetByTheDaemonAndResumeCompletesWithoutAReplu
 
 TEST(E2EKnitMachine, TheKnitterIsToldWhatToDoInOrderInShowAndDevices) {
   // The knitter takes 150 ms before each pass, so every prompt lasts long enough to be seen.
-  Rig rig({"knitter-pause-ms=150"}, "[knit]\nwidth = 10\n", /*row_ms=*/3, "autostart = true\n");
+  Rig rig({"knitter-pause-ms=150"}, "[knit]\nwidth = 10\n", /*row_ms=*/3);
   atelier::test::drop_file(atelier::test::test_image("pic1.png"), rig.daemon->incoming("knit") / "p.png");
   std::vector<std::string> reasons, details;
   auto note = [](std::vector<std::string>& seen, const std::string& what) {
