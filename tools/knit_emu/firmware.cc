@@ -106,6 +106,7 @@ void Firmware::handle_packet(ab::Bytes p) {
     case static_cast<uint8_t>(ab::MsgId::reqStart): h_req_start(p); break;
     case static_cast<uint8_t>(ab::MsgId::cnfLine): {
       ++cnf_lines_;
+      if (state_ == ab::FsmState::knit) line_arrived_ = true;
       if (opt_.faults.corrupt_line && cnf_lines_received() == *opt_.faults.corrupt_line) {
         const size_t at = 4 + (static_cast<size_t>(start_) >> 3);
         if (at + 1 < p.size()) p[at] ^= 0xFF;  // a needle byte; the CRC no longer matches
@@ -158,6 +159,7 @@ void Firmware::h_req_start(const ab::Bytes& p) {
   resting_since_ = now_;
   beepless_pushes_ = 0;
   job_pushes_ = 0;
+  line_arrived_ = false;
   beep_at_.reset();
   if (first_run_) {
     // The first knit() after power-on asks for line 0 at once.
@@ -469,8 +471,11 @@ std::optional<int64_t> Firmware::next_push_ms() const {
   if (state_ != ab::FsmState::knit) return std::nullopt;
   const Faults& f = opt_.faults;
   if (beep_at_) return std::max(resting_since_, *beep_at_ + f.knitter_pause_ms);
-  // The knitter starts a job on a beep, and after two pushes in a row with no beep waits for one.
-  if (job_pushes_ == 0 || beepless_pushes_ >= 2) return std::nullopt;
+  // The knitter starts a job on a beep - or, once the host has sent a line (atelier says
+  // "knitting row 1"), after its patience even if the line came garbled and no beep came - and
+  // after two pushes in a row with no beep waits for one. A session abandoned before it sent a
+  // line never has its firmware knit on its own.
+  if ((job_pushes_ == 0 && !line_arrived_) || beepless_pushes_ >= 2) return std::nullopt;
   const int64_t patience = f.knitter_patience_ms ? *f.knitter_patience_ms : 2 * opt_.row_ms;
   int64_t at = resting_since_ + patience;
   if (f.impatient_knitter) at = std::min(at, resting_since_ + f.knitter_pause_ms);

@@ -67,7 +67,8 @@
 //   (setNextLine), or after the reqStart beep when the firmware asks for no line (the blank
 //   pass of a second job); with no beep, knitter_patience_ms after the end of the previous pass
 //   (default 2 x row_ms); an impatient knitter pushes knitter_pause_ms after the end of each
-//   pass whatever it heard. A job's first pass waits for a beep, and after two pushes in a row
+//   pass whatever it heard. A job's first pass waits for a beep (or, once a cnfLine of any kind
+//   came, for knitter_patience_ms), and after two pushes in a row
 //   with no beep heard between them the knitter waits for one. It never pushes outside the
 //   knit state.
 // - The record (the observer): every pass over the working range in knit state, with the
@@ -235,6 +236,7 @@ class Firmware {
   std::optional<int64_t> beep_at_;  // an accepted-line beep the knitter heard since it last pushed
   int beepless_pushes_ = 0;
   int job_pushes_ = 0;  // passes pushed since reqStart
+  bool line_arrived_ = false;  // a cnfLine (good or garbled) came since reqStart
   std::string pass_needles_;
 
   int rows_ = 0;
