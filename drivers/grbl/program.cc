@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "base/error.h"
+#include "algorithms/laser/motion_planner.h"
 
 namespace atelier::grbl {
 namespace {
@@ -140,7 +141,11 @@ struct Machine {
   bool absolute = true;
   double unit = 1;   // mm per program unit (25.4 under G20)
   double feed = 0;   // mm/min
+  int spindle = 5;   // 3, 4 or 5 (M5: off)
+  double s_word = 0;
+  bool sync_pending = false;  // a buffer sync since the last move: the next move starts at rest
   std::optional<Bounds> extent;
+  std::vector<laser::PlannedMove> moves;  // every move so far, for the planner model
 
   void include(double x, double y) {
     if (!extent) extent = Bounds{x, y, x, y};
@@ -153,11 +158,30 @@ struct Machine {
 
 bool is(double v, double g) { return std::fabs(v - g) < 1e-6; }
 
-// Runs one line on the modal state; returns its estimated seconds.
-double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
-  std::optional<double> ax[3], off[2], r, p;
-  bool non_modal_axes = false, dwell = false;
-  std::optional<int> motion;
+// GRBL's mc_arc(): the number of straight segments an arc of `radius` sweeping `sweep`
+// radians is cut into for the arc tolerance $12 (default 0.002 mm).
+int arc_segments(double radius, double sweep) {
+  constexpr double kArcTolerance = 0.002;
+  if (!(radius > kArcTolerance)) return 1;
+  const double seg = std::floor(std::fabs(0.5 * sweep * radius) / std::sqrt(kArcTolerance * (2 * radius - kArcTolerance)));
+  return std::max(1, static_cast<int>(std::min(seg, 100000.0)));
+}
+
+void add_move(Machine& m, const std::array<double, 3>& to, bool rapid, double feed) {
+  laser::PlannedMove mv;
+  mv.target = to;
+  mv.rapid = rapid;
+  mv.feed_mm_min = feed;
+  mv.after_sync = m.sync_pending;
+  m.sync_pending = false;
+  m.moves.push_back(mv);
+}
+
+// Runs one line on the modal state: appends its moves to m.moves; returns its dwell seconds.
+double run(Machine& m, const std::vector<Word>& ws) {
+  std::optional<double> ax[3], off[2], r, p, s_word;
+  bool non_modal_axes = false, dwell = false, sync = false;
+  std::optional<int> motion, spindle;
   for (const Word& w : ws) {
     switch (w.letter) {
       case 'G':
@@ -182,13 +206,29 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
       case 'R': r = w.value; break;
       case 'P': p = w.value; break;
       case 'F': m.feed = w.value; break;  // unit applied below: F follows G20/G21 of its line
+      case 'S': s_word = w.value; break;
+      case 'M':
+        if (is(w.value, 3) || is(w.value, 4) || is(w.value, 5)) spindle = static_cast<int>(w.value);
+        // Program stops and ends wait for the planner to empty.
+        else if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 30)) sync = true;
+        break;
       default: break;
     }
   }
   double seconds = 0;
   if (dwell && p) seconds += std::max(0.0, *p);
   if (motion) m.motion = *motion;
-  if (non_modal_axes || !(ax[0] || ax[1] || ax[2]) || m.motion < 0) return seconds;
+  const bool moves = !non_modal_axes && (ax[0] || ax[1] || ax[2]) && m.motion >= 0;
+  // Buffer syncs (gcode.c): every spindle state change, in laser mode an S change on a line
+  // without motion, dwells, program stops, G10 (an EEPROM write) and the other non-modal
+  // position commands.
+  if (spindle && *spindle != m.spindle) sync = true;
+  if (s_word && *s_word != m.s_word && !moves && m.spindle != 5) sync = true;
+  if (dwell || non_modal_axes) sync = true;
+  if (spindle) m.spindle = *spindle;
+  if (s_word) m.s_word = *s_word;
+  if (sync) m.sync_pending = true;
+  if (!moves) return seconds;
 
   const std::array<double, 3> from = m.pos;
   std::array<double, 3> to = from;
@@ -196,7 +236,6 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
     if (ax[i]) to[i] = m.absolute ? *ax[i] * m.unit : from[i] + *ax[i] * m.unit;
   const double feed = m.feed * m.unit;
 
-  double length = std::hypot(to[0] - from[0], to[1] - from[1], to[2] - from[2]);
   if (m.motion == 2 || m.motion == 3) {
     // The arc in the XY plane as GRBL's gcode.c constructs it (centre from I/J or R).
     const double x = to[0] - from[0], y = to[1] - from[1];
@@ -218,8 +257,13 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
     double sweep = std::atan2(r0x * r1y - r0y * r1x, r0x * r1x + r0y * r1y);
     if (m.motion == 2 && sweep >= -1e-9) sweep -= 2 * kPi;
     if (m.motion == 3 && sweep <= 1e-9) sweep += 2 * kPi;
-    length = std::hypot(radius * sweep, to[2] - from[2]);
     const double a0 = std::atan2(r0y, r0x);
+    const int segments = arc_segments(radius, sweep);
+    for (int k = 1; k < segments; ++k) {
+      const double a = a0 + sweep * k / segments;
+      add_move(m, {cx + radius * std::cos(a), cy + radius * std::sin(a), from[2] + (to[2] - from[2]) * k / segments},
+               false, feed);
+    }
     constexpr int kSamples = 72;
     for (int k = 1; k < kSamples; ++k) {
       const double a = a0 + sweep * k / kSamples;
@@ -234,8 +278,8 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
   }
   m.include(to[0], to[1]);
   m.pos = to;
-  if (m.motion == 0) return seconds + (rapid_mm_min > 0 ? length / rapid_mm_min * 60 : 0);
-  return seconds + (feed > 0 ? length / feed * 60 : 0);
+  add_move(m, to, m.motion == 0, feed);
+  return seconds;
 }
 
 std::string mm(double v) {
@@ -259,8 +303,15 @@ std::string trim_spaces(const std::string& s) {
 double Program::total_seconds() const { return std::accumulate(seconds.begin(), seconds.end(), 0.0); }
 
 Program parse_program(std::string_view gcode, double rapid_mm_min) {
+  laser::MotionSettings settings;
+  if (rapid_mm_min > 0) settings.max_rate_mm_min = {rapid_mm_min, rapid_mm_min, rapid_mm_min};
+  return parse_program(gcode, settings);
+}
+
+Program parse_program(std::string_view gcode, const laser::MotionSettings& settings) {
   Program p;
   Machine m;
+  std::vector<size_t> moves_before;  // m.moves.size() before lines[i] ran
   int line_no = 0;
   bool header = true;  // before the first line that is sent
   std::string last_comment;  // for the note of a program pause (M0)
@@ -289,12 +340,19 @@ Program parse_program(std::string_view gcode, double rapid_mm_min) {
     const std::vector<Word> ws = words(s.code);
     if (std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'M' && is(w.value, 0); }))
       p.pauses[p.lines.size()] = last_comment;
-    p.seconds.push_back(run(m, ws, rapid_mm_min));
+    moves_before.push_back(m.moves.size());
+    p.seconds.push_back(run(m, ws));
     p.lines.push_back(std::move(s.code));
     p.source_line.push_back(line_no);
     p.source_text.emplace_back(raw);
   }
   if (!p.bounds) p.bounds = m.extent;
+  // Each line's moves timed by GRBL's planner; a line's time is its moves' plus its dwell.
+  const std::vector<double> move_s = laser::move_seconds(m.moves, settings);
+  for (size_t i = 0; i < p.seconds.size(); ++i) {
+    const size_t end = i + 1 < moves_before.size() ? moves_before[i + 1] : move_s.size();
+    for (size_t k = moves_before[i]; k < end; ++k) p.seconds[i] += move_s[k];
+  }
   return p;
 }
 

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "algorithms/laser/motion_planner.h"
+
 namespace atelier::grbl {
 
 // GRBL 1.1's line buffer is 80 bytes with the terminator: 79 characters after GRBL itself has
@@ -33,7 +35,7 @@ struct Program {
   // From a "; bounds=min_x,min_y,max_x,max_y" header comment, else the extent of every
   // X/Y target and arc (G20 inches converted, G91 followed); empty if nothing moves.
   std::optional<Bounds> bounds;
-  std::vector<double> seconds;  // estimated duration of lines[i]: G1/G2/G3 at F, G0 at rapid, G4 P
+  std::vector<double> seconds;  // estimated duration of lines[i] (GRBL's planner; G4 P dwells)
   // Program pauses: index into `lines` of each line with M0 (GRBL finishes the motion before
   // it, holds, and answers that line only after a cycle start '~'), with the text of the last
   // comment before it in the source (trimmed; "" if none), which tells the operator what to
@@ -42,10 +44,15 @@ struct Program {
   double total_seconds() const;
 };
 
-// Parses `gcode`; `rapid_mm_min` is the G0 speed for the estimate ($110/$111, or a guess).
+// Parses `gcode`. `settings`: the controller's motion settings ($$, laser::motion_settings_from)
+// for the estimate, which follows GRBL's planner (algorithms/laser/motion_planner.h): per-axis
+// acceleration and rates, junction deviation, the 15-block look-ahead, buffer syncs at spindle
+// changes, dwells and program stops; arcs cut into segments as GRBL's mc_arc does.
 // Throws std::runtime_error "line N: ..." for lines GRBL cannot take: longer than 79
 // characters, bytes GRBL reads as real-time commands ('?', '!', '~', 0x80-0xFF), '$' system
 // commands (they are not job content and settings must not be streamed), and bad header values.
+Program parse_program(std::string_view gcode, const laser::MotionSettings& settings);
+// The same with default settings except the rapid rate `rapid_mm_min` on every axis (0: default).
 Program parse_program(std::string_view gcode, double rapid_mm_min);
 
 // The bounding-box trace with the beam off: M5, G90 G21, G0 to the first corner, G1 at
