@@ -18,16 +18,6 @@ double limit_along(const std::array<double, 3>& max, const std::array<double, 3>
   return v;
 }
 
-// One planner block as plan_buffer_line() fills it (speeds in mm/s, squared where GRBL
-// keeps them squared).
-struct Block {
-  double length = 0;          // mm
-  double accel = 0;           // mm/s^2 along the block
-  double nominal = 0;         // mm/s
-  double max_entry_sqr = 0;   // junction and nominal limits
-  bool stops_before = false;  // starts at rest: first block, or after a buffer sync
-};
-
 }  // namespace
 
 MotionSettings motion_settings_from(const std::map<int, double>& dollar) {
@@ -108,25 +98,73 @@ MoveProfile trapezoid(double length_mm, double entry_mm_min, double nominal_mm_m
   return p;
 }
 
-std::vector<MoveProfile> plan_moves(const std::vector<PlannedMove>& moves, const MotionSettings& settings,
-                                    std::array<double, 3> start) {
-  std::vector<MoveProfile> out(moves.size());
-  std::vector<Block> blocks;
-  std::vector<size_t> move_of;  // blocks[k] is moves[move_of[k]]
-  blocks.reserve(moves.size());
-  move_of.reserve(moves.size());
-
+PlannerBlock BlockPlanner::add(const MotionSettings& settings, const std::array<double, 3>& delta, double feed_mm_min,
+                               bool rapid) {
   std::array<double, 3> max_rate{}, accel{};
   for (int i = 0; i < 3; ++i) {
     max_rate[i] = settings.max_rate_mm_min[i] / 60;
     accel[i] = settings.accel_mm_s2[i];
   }
+  const double length = std::sqrt(delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]);
+  std::array<double, 3> unit{};
+  for (int i = 0; i < 3; ++i) unit[i] = length > 0 ? delta[i] / length : 0;
+
+  PlannerBlock b;
+  b.length_mm = length;
+  b.accel_mm_s2 = limit_along(accel, unit);
+  const double rapid_rate = limit_along(max_rate, unit);
+  const double nominal = std::max(kMinFeed, rapid ? rapid_rate : std::min(feed_mm_min / 60, rapid_rate));
+  b.nominal_mm_min = nominal * 60;
+  double max_junction_sqr = 0;
+  if (!at_rest_) {
+    double cos_theta = 0;
+    std::array<double, 3> junction{};
+    for (int i = 0; i < 3; ++i) {
+      cos_theta -= prev_unit_[i] * unit[i];
+      junction[i] = unit[i] - prev_unit_[i];
+    }
+    if (cos_theta > 0.999999) {
+      max_junction_sqr = 0;  // a full reversal: MINIMUM_JUNCTION_SPEED 0
+    } else if (cos_theta < -0.999999) {
+      max_junction_sqr = kHuge;  // straight on
+    } else {
+      const double jl = std::sqrt(junction[0] * junction[0] + junction[1] * junction[1] + junction[2] * junction[2]);
+      for (double& v : junction) v /= jl;
+      const double junction_accel = limit_along(accel, junction);
+      const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
+      max_junction_sqr = junction_accel * settings.junction_deviation_mm * sin_half / (1.0 - sin_half);
+    }
+    // plan_compute_profile_parameters(): never enter faster than either nominal speed.
+    const double nominal_cap = nominal > prev_nominal_ ? prev_nominal_ : nominal;
+    b.max_entry_sqr = std::min(nominal_cap * nominal_cap, max_junction_sqr);
+  }
+  prev_nominal_ = nominal;
+  prev_unit_ = unit;
+  at_rest_ = false;
+  return b;
+}
+
+double planned_exit(const PlannerBlock* queue, size_t count, double entry_mm_min) {
+  if (count < 2) return 0;
+  // Reverse pass from the newest block (planner_recalculate), then the forward limit.
+  double next_sqr = 0;
+  for (size_t j = count - 1; j > 0; --j)
+    next_sqr = std::min(queue[j].max_entry_sqr, next_sqr + 2 * queue[j].accel_mm_s2 * queue[j].length_mm);
+  const double entry = entry_mm_min / 60;
+  return 60 * std::sqrt(std::min(next_sqr, entry * entry + 2 * queue[0].accel_mm_s2 * queue[0].length_mm));
+}
+
+std::vector<MoveProfile> plan_moves(const std::vector<PlannedMove>& moves, const MotionSettings& settings,
+                                    std::array<double, 3> start) {
+  std::vector<MoveProfile> out(moves.size());
+  std::vector<PlannerBlock> blocks;
+  std::vector<bool> at_rest;    // blocks[k] starts at rest (a sync before it, or the first)
+  std::vector<size_t> move_of;  // blocks[k] is moves[move_of[k]]
+  blocks.reserve(moves.size());
+  BlockPlanner planner;
   std::array<long, 3> steps{};
   for (int i = 0; i < 3; ++i) steps[i] = std::lround(start[i] * settings.steps_per_mm[i]);
-  std::array<double, 3> prev_unit{};
-  double prev_nominal = 0;
   bool pending_sync = true;  // the planner starts empty
-
   for (size_t m = 0; m < moves.size(); ++m) {
     const PlannedMove& mv = moves[m];
     if (mv.after_sync) pending_sync = true;
@@ -139,75 +177,29 @@ std::vector<MoveProfile> plan_moves(const std::vector<PlannedMove>& moves, const
       steps[i] = target;
     }
     if (!any) continue;  // no steps: GRBL drops the block
-    const double length = std::sqrt(delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]);
-    std::array<double, 3> unit{};
-    for (int i = 0; i < 3; ++i) unit[i] = delta[i] / length;
-
-    Block b;
-    b.length = length;
-    b.accel = limit_along(accel, unit);
-    const double rapid = limit_along(max_rate, unit);
-    b.nominal = std::max(kMinFeed, mv.rapid ? rapid : std::min(mv.feed_mm_min / 60, rapid));
-    double max_junction_sqr = 0;
-    if (pending_sync) {
-      b.stops_before = true;
-    } else {
-      double cos_theta = 0;
-      std::array<double, 3> junction{};
-      for (int i = 0; i < 3; ++i) {
-        cos_theta -= prev_unit[i] * unit[i];
-        junction[i] = unit[i] - prev_unit[i];
-      }
-      if (cos_theta > 0.999999) {
-        max_junction_sqr = 0;  // a full reversal: MINIMUM_JUNCTION_SPEED 0
-      } else if (cos_theta < -0.999999) {
-        max_junction_sqr = kHuge;  // straight on
-      } else {
-        const double jl = std::sqrt(junction[0] * junction[0] + junction[1] * junction[1] + junction[2] * junction[2]);
-        for (double& v : junction) v /= jl;
-        const double junction_accel = limit_along(accel, junction);
-        const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
-        max_junction_sqr = junction_accel * settings.junction_deviation_mm * sin_half / (1.0 - sin_half);
-      }
-    }
-    // plan_compute_profile_parameters(): never enter faster than either nominal speed.
-    const double nominal_cap = b.nominal > prev_nominal ? prev_nominal : b.nominal;
-    b.max_entry_sqr = std::min(nominal_cap * nominal_cap, max_junction_sqr);
-    if (b.stops_before) b.max_entry_sqr = 0;
-    prev_nominal = b.nominal;
-    prev_unit = unit;
+    if (pending_sync) planner.sync();
+    at_rest.push_back(pending_sync);
     pending_sync = false;
-    blocks.push_back(b);
+    blocks.push_back(planner.add(settings, delta, mv.feed_mm_min, mv.rapid));
     move_of.push_back(m);
   }
 
   const size_t n = blocks.size();
   const size_t window = static_cast<size_t>(std::max(1, settings.planner_blocks));
-  double entry = 0;  // mm/s, of the block about to run
+  double entry = 0;  // mm/min, of the block about to run
   for (size_t k = 0; k < n; ++k) {
     // The planner when block k starts: blocks k..last (the host keeps it full); the last
     // must be able to stop, a sync ends the window early.
     size_t last = std::min(n - 1, k + window - 1);
     for (size_t j = k + 1; j <= last; ++j)
-      if (blocks[j].stops_before) {
+      if (at_rest[j]) {
         last = j - 1;
         break;
       }
-    double exit = 0;
-    if (last > k) {
-      // Reverse pass from the newest block (planner_recalculate), then the forward limit.
-      double next_sqr = 0;
-      for (size_t j = last; j > k; --j) {
-        const Block& bj = blocks[j];
-        next_sqr = std::min(bj.max_entry_sqr, next_sqr + 2 * bj.accel * bj.length);
-      }
-      const Block& bk = blocks[k];
-      exit = std::sqrt(std::min(next_sqr, entry * entry + 2 * bk.accel * bk.length));
-    }
-    const Block& bk = blocks[k];
-    MoveProfile p = trapezoid(bk.length, entry * 60, bk.nominal * 60, exit * 60, bk.accel);
-    out[move_of[k]] = p;
-    entry = p.exit_mm_min / 60;
+    const PlannerBlock& b = blocks[k];
+    const double exit = planned_exit(&blocks[k], last - k + 1, entry);
+    out[move_of[k]] = trapezoid(b.length_mm, entry, b.nominal_mm_min, exit, b.accel_mm_s2);
+    entry = out[move_of[k]].exit_mm_min;
   }
   return out;
 }

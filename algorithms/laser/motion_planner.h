@@ -25,6 +25,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <map>
 #include <vector>
 
@@ -63,6 +64,37 @@ struct MoveProfile {
   double speed_at(double t) const;
   double distance_at(double t) const;
 };
+
+// One block as plan_buffer_line() fills it.
+struct PlannerBlock {
+  double length_mm = 0;
+  double accel_mm_s2 = 0;      // along the block
+  double nominal_mm_min = 0;   // programmed feed (or rapid rate) within the axes' limits
+  double max_entry_sqr = 0;    // (mm/s)^2: junction and nominal limits on the entry speed
+};
+
+// The part of plan_buffer_line() that depends on the block before: junction speeds and the
+// nominal-speed cap. Used move by move by plan_moves() and by the laser emulator's planner.
+// Not thread-safe (one planner per user).
+class BlockPlanner {
+ public:
+  // The block for a move of `delta_mm` (already step-quantised, not all zero) at
+  // `feed_mm_min` (ignored when `rapid`), with the settings as they are now.
+  PlannerBlock add(const MotionSettings& settings, const std::array<double, 3>& delta_mm, double feed_mm_min,
+                   bool rapid);
+  // The planner emptied (a buffer sync, a stop, the head ran out of blocks): the next block
+  // starts at rest.
+  void sync() { at_rest_ = true; }
+
+ private:
+  std::array<double, 3> prev_unit_{};
+  double prev_nominal_ = 0;  // mm/s
+  bool at_rest_ = true;
+};
+
+// The exit speed (mm/min) planner_recalculate() gives queue[0], entered at `entry_mm_min`,
+// when queue[1..count-1] follow it in the planner and the last must be able to stop.
+double planned_exit(const PlannerBlock* queue, std::size_t count, double entry_mm_min);
 
 // Trapezoid of a move of `length_mm` from `entry` to `exit` (mm/min) with cruise speed at
 // most `nominal` and acceleration `accel_mm_s2`. When entry and exit are not both reachable
