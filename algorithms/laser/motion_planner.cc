@@ -167,7 +167,7 @@ std::vector<MoveProfile> plan_moves(const std::vector<PlannedMove>& moves, const
   bool pending_sync = true;  // the planner starts empty
   for (size_t m = 0; m < moves.size(); ++m) {
     const PlannedMove& mv = moves[m];
-    if (mv.after_sync) pending_sync = true;
+    if (mv.from_rest) pending_sync = true;
     std::array<double, 3> delta{};
     bool any = false;
     for (int i = 0; i < 3; ++i) {

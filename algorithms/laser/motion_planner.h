@@ -49,7 +49,7 @@ struct PlannedMove {
   bool rapid = false;              // G0: the fastest rate the axes allow along the move
   // A buffer sync comes before this move (spindle state change M3/M4/M5, dwell, an S change
   // on a line without motion in laser mode, ...): the move before it ends at rest.
-  bool after_sync = false;
+  bool from_rest = false;
 };
 
 // The motion profile of one move as the stepper runs it.

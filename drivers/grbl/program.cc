@@ -172,7 +172,7 @@ void add_move(Machine& m, const std::array<double, 3>& to, bool rapid, double fe
   mv.target = to;
   mv.rapid = rapid;
   mv.feed_mm_min = feed;
-  mv.after_sync = m.sync_pending;
+  mv.from_rest = m.sync_pending;
   m.sync_pending = false;
   m.moves.push_back(mv);
 }

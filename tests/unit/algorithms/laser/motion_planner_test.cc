@@ -81,7 +81,7 @@ TEST(MotionPlanner, ARapidRunsAtTheAxesLimitAlongItsDirection) {
 
 TEST(MotionPlanner, ABufferSyncMakesTheMoveBeforeItStop) {
   std::vector<PlannedMove> moves{line(50, 0, 6000), line(100, 0, 6000)};
-  moves[1].after_sync = true;  // e.g. an M5 between them
+  moves[1].from_rest = true;  // e.g. an M5 between them
   const auto p = plan_moves(moves, settings_500());
   EXPECT_EQ(p[0].exit_mm_min, 0);
   EXPECT_EQ(p[1].entry_mm_min, 0);
