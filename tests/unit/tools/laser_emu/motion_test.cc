@@ -1,6 +1,6 @@
 // The laser emulator's motion and laser: timing with GRBL's acceleration ($120/$121 = 500
-// mm/s^2 here), G0/M3/M4/S0 beam rules, feed hold, soft reset, soft limits, injected alarms,
-// dwell. Virtual time.
+// mm/s^2 here), G0/M3/M4/S0 beam rules, feed hold, reset after a hold, dwell. Virtual time.
+// (Alarms in motion: controller_alarm_test.cc.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -167,28 +167,6 @@ TEST(LaserEmuMotion, FeedHoldDeceleratesStopsTheBeamAndResumes) {
   EXPECT_TRUE(has_event(rig.record, "resume"));
 }
 
-TEST(LaserEmuMotion, ResetInMotionIsAlarm3AndLocks) {
-  Rig rig;
-  rig.boot();
-  ASSERT_EQ(rig.exchange("G1 X200 F6000 M4 S500"), "ok\r\n");
-  rig.run(500'000);
-  rig.send("\x18");
-  rig.run(10'000);
-  EXPECT_EQ(rig.take(), "ALARM:3\r\n\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
-  EXPECT_EQ(rig.ctl.state(), MachineState::alarm);
-  EXPECT_EQ(rig.ctl.laser_s(), 0.0);
-  const double x = rig.ctl.position()[0];
-  EXPECT_NEAR(x, 50.0, 1.0);
-  rig.run(1'000'000);
-  EXPECT_EQ(rig.ctl.position()[0], x);  // stopped dead
-  EXPECT_TRUE(has_event(rig.record, "reset"));
-  EXPECT_TRUE(has_event(rig.record, "alarm", 3));
-  EXPECT_EQ(rig.record.segments.back().x1, x);
-  EXPECT_EQ(rig.exchange("G0 X0"), "error:9\r\n");
-  EXPECT_EQ(rig.exchange("$X"), "[MSG:Caution: Unlocked]\r\nok\r\n");
-  EXPECT_EQ(rig.exchange("G0 X0"), "ok\r\n");
-}
-
 TEST(LaserEmuMotion, ResetAfterAHoldKeepsThePositionWithoutAlarm) {
   Rig rig;
   rig.boot();
@@ -204,65 +182,6 @@ TEST(LaserEmuMotion, ResetAfterAHoldKeepsThePositionWithoutAlarm) {
   EXPECT_EQ(rig.ctl.state(), MachineState::idle);
   EXPECT_EQ(rig.ctl.position()[0], x);
   EXPECT_EQ(rig.ctl.planner_blocks(), 0);
-}
-
-TEST(LaserEmuMotion, SoftLimitWhileMovingStopsThenAlarm2UntilReset) {
-  Rig rig;
-  rig.boot();
-  ASSERT_EQ(rig.exchange("G1 X100 F6000 M4 S500"), "ok\r\n");
-  rig.run(300'000);
-  rig.send("G1 X500\n");  // beyond $130 = 400
-  rig.run(5'000);
-  EXPECT_EQ(rig.ctl.state_name(), "Hold:1");  // a controlled stop keeps the position
-  rig.run(300'000);
-  EXPECT_EQ(rig.take(), "ALARM:2\r\n[MSG:Reset to continue]\r\n");  // the line is never answered
-  EXPECT_TRUE(rig.ctl.critical_alarm());
-  const double x = rig.ctl.position()[0];
-  EXPECT_LT(x, 100.0);
-  EXPECT_EQ(rig.ctl.laser_s(), 0.0);
-  // Everything is ignored until a reset, status reports included.
-  rig.send("?G0 X0\n$X\n");
-  rig.run(100'000);
-  EXPECT_EQ(rig.take(), "");
-  rig.send("\x18");
-  rig.run(10'000);
-  EXPECT_EQ(rig.take(), "\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
-  EXPECT_EQ(rig.ctl.position()[0], x);
-  EXPECT_EQ(rig.exchange("G0 X0"), "error:9\r\n");
-  EXPECT_EQ(rig.exchange("$X"), "[MSG:Caution: Unlocked]\r\nok\r\n");
-  EXPECT_TRUE(has_event(rig.record, "alarm", 2));
-}
-
-TEST(LaserEmuMotion, InjectedHardLimitAlarmStopsDead) {
-  ControllerOptions o;
-  o.alarm_at_line = 3;
-  Rig rig(o);
-  rig.boot();
-  ASSERT_EQ(rig.exchange("G0 X10"), "ok\r\n");
-  ASSERT_EQ(rig.exchange("G1 X100 F600 M4 S500"), "ok\r\n");
-  rig.run(1'000'000);
-  rig.send("G1 X20\n");
-  rig.run(10'000);
-  EXPECT_EQ(rig.take(), "ALARM:1\r\n[MSG:Reset to continue]\r\n");
-  EXPECT_EQ(rig.ctl.laser_s(), 0.0);
-  const double x = rig.ctl.position()[0];
-  EXPECT_GT(x, 10.0);
-  EXPECT_LT(x, 100.0);
-  rig.run(1'000'000);
-  EXPECT_EQ(rig.ctl.position()[0], x);
-  EXPECT_TRUE(has_event(rig.record, "alarm", 1));
-}
-
-TEST(LaserEmuMotion, InjectedNonCriticalAlarmResetsIntoAlarmState) {
-  ControllerOptions o;
-  o.alarm_at_line = 1;
-  o.alarm_code = 6;
-  Rig rig(o);
-  rig.boot();
-  rig.send("G0 X1\n");
-  rig.run(10'000);
-  EXPECT_EQ(rig.take(), "ALARM:6\r\n\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
-  EXPECT_EQ(rig.ctl.state(), MachineState::alarm);
 }
 
 TEST(LaserEmuMotion, DwellWaitsForMotionThenForItsTime) {
