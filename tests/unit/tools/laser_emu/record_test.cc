@@ -22,12 +22,12 @@ TEST(LaserEmuRecord, JsonHasEveryFieldWithEpochTimes) {
   ASSERT_EQ(rig.exchange("G7"), "error:20\r\n");
   rig.run(2'000'000);
   const auto j = to_json(rig.record);
-  ASSERT_EQ(j["segments"].size(), 1u);
-  const auto& s = j["segments"][0];
+  ASSERT_EQ(j["segments"].size(), 3u);  // speeding up (0.02 s), cruising, stopping
+  const auto& s = j["segments"][1];
   for (const char* key : {"t0", "t1", "x0", "y0", "x1", "y1", "s", "power", "mode", "feed"})
     EXPECT_TRUE(s.contains(key)) << key;
   EXPECT_GT(s["t0"].get<double>(), 1.7e9);
-  EXPECT_NEAR(s["t1"].get<double>() - s["t0"].get<double>(), 1.0, 1e-6);
+  EXPECT_NEAR(s["t1"].get<double>() - s["t0"].get<double>(), 0.98, 1e-6);  // 9.8 mm at 10 mm/s
   EXPECT_EQ(s["mode"], "M4");
   EXPECT_DOUBLE_EQ(s["power"].get<double>(), 0.3);
   EXPECT_EQ(j["rx_overflows"], 0);
@@ -49,11 +49,11 @@ TEST(LaserEmuRecord, SnapshotClosesTheSegmentUnderWay) {
   rig.boot();
   ASSERT_EQ(rig.exchange("G1 X100 F6000 M4 S1000"), "ok\r\n");
   rig.run(500'000);
-  EXPECT_TRUE(rig.record.segments.empty());
+  ASSERT_EQ(rig.record.segments.size(), 1u);  // the first 0.2 s (10 mm) speeding up
   const Record snap = rig.ctl.snapshot();
-  ASSERT_EQ(snap.segments.size(), 1u);
-  EXPECT_NEAR(snap.segments[0].x1, 50.0, 0.5);
-  EXPECT_EQ(snap.segments[0].power, 1.0);
+  ASSERT_EQ(snap.segments.size(), 2u);
+  EXPECT_NEAR(snap.segments[1].x1, 40.0, 0.5);  // then 0.3 s at 100 mm/s
+  EXPECT_EQ(snap.segments[1].power, 1.0);
 }
 
 TEST(LaserEmuRecord, RenderIsDarkWhereBurnedAndWhiteElsewhere) {
