@@ -11,8 +11,10 @@ namespace {
 
 enum : int {
   kOk = 0, kBadNumberFormat = 2, kInvalidStatement = 3, kSettingDisabled = 5, kIdleError = 8,
-  kSystemGcLock = 9, kOverflow = 11, kUnsupportedCommand = 20,
+  kSystemGcLock = 9, kOverflow = 11, kTravelExceeded = 15, kInvalidJogCommand = 16,
+  kUndefinedFeedRate = 22, kUnusedWords = 36,
 };
+constexpr uint8_t kCmdJogCancel = 0x85;
 constexpr int kAlarmHardLimit = 1, kAlarmSoftLimit = 2, kAlarmAbortCycle = 3, kAlarmHomingReset = 6;
 constexpr int kPending = -1;  // system_command(): the line stays under way ($H)
 constexpr int kHomingLocateCycles = 1;     // N_HOMING_LOCATE_CYCLE (config.h)
@@ -85,6 +87,7 @@ void Controller::receive_byte(uint8_t c) {
     case '!': feed_hold(); return;
     case '~': cycle_start(); return;
     case 0x18: soft_reset(); return;
+    case kCmdJogCancel: jog_cancel(); return;
     default: break;
   }
   if (c >= 0x80) return;  // extended real-time commands: not emulated, never buffered
@@ -148,7 +151,13 @@ void Controller::advance_motion(int64_t t) {
   now_ = std::max(now_, t);
   if (!was_running || motion_.running()) return;
   if (was_decel) {  // feed hold complete
-    if (soft_limit_stop_) {
+    if (jog_cancel_) {
+      // protocol_exec_rt_system(), SUSPEND_JOG_CANCEL: flush the planner, sync the positions.
+      jog_cancel_ = false;
+      motion_.stop(now_);
+      gc_.position = motion_.position();
+      state_ = MachineState::idle;
+    } else if (soft_limit_stop_) {
       soft_limit_stop_ = false;
       state_ = MachineState::idle;
       raise_alarm(kAlarmSoftLimit);
@@ -156,7 +165,7 @@ void Controller::advance_motion(int64_t t) {
       hold_complete_ = true;
       motion_.set_hold_beam_off(now_, true);  // DISABLE_LASER_DURING_HOLD
     }
-  } else if (state_ == MachineState::run) {
+  } else if (state_ == MachineState::run || state_ == MachineState::jog) {
     state_ = MachineState::idle;  // cycle stop: the planner ran dry
   }
 }
@@ -206,6 +215,7 @@ void Controller::run_main() {
       }
       if (!run_actions()) return;
       line_active_ = false;
+      jog_line_ = false;
       respond(kOk);
       continue;
     }
@@ -257,14 +267,13 @@ void Controller::process_line() {
   if (line_.empty()) return respond(kOk);
   if (line_[0] == '$') {
     const int status = system_command(line_);
-    if (status == kPending) {
-      actions_.clear();
+    if (status == kPending) {  // actions_ set by the command
       line_active_ = true;
       return;
     }
     return respond(status);
   }
-  if (state_ == MachineState::alarm) return respond(kSystemGcLock);
+  if (state_ == MachineState::alarm || state_ == MachineState::jog) return respond(kSystemGcLock);
   LineResult r = execute_gcode_line(line_, gc_, settings_);
   if (r.status != kOk) return respond(r.status);
   actions_.assign(r.actions.begin(), r.actions.end());
@@ -339,7 +348,12 @@ bool Controller::run_actions() {
           action_checked_ = false;
           continue;
         }
-        auto_cycle_start();
+        if (jog_line_) {  // jog_execute(): a manual start, state Jog
+          if (state_ == MachineState::idle) state_ = MachineState::jog;
+          if (!motion_.running()) motion_.start(now_);
+        } else {
+          auto_cycle_start();
+        }
         break;
       }
       case Action::Kind::sync:
@@ -408,10 +422,10 @@ int Controller::system_command(const std::string& line) {
     return kOk;
   }
   const char c1 = line[1];
-  if (c1 == 'J') {  // jogging is not emulated
-    if (state_ != MachineState::idle) return kIdleError;
+  if (c1 == 'J') {
+    if (state_ != MachineState::idle && state_ != MachineState::jog) return kIdleError;
     if (line.size() < 3 || line[2] != '=') return kInvalidStatement;
-    return kUnsupportedCommand;
+    return jog_command(line);
   }
   if (c1 == '$' || c1 == 'G' || c1 == 'C' || c1 == 'X') {
     if (line.size() != 2) return kInvalidStatement;
@@ -477,6 +491,7 @@ int Controller::system_command(const std::string& line) {
                    (2 * kHomingLocateCycles + 2) * debounce_s;
       }
       state_ = MachineState::home;
+      actions_.clear();
       homing_until_ = now_ + static_cast<int64_t>(seconds * opt_.time_scale * 1e9);
       return kPending;
     }
@@ -539,6 +554,7 @@ void Controller::feed_hold() {
   if (critical_ || state_ == MachineState::alarm || state_ == MachineState::check ||
       state_ == MachineState::home)
     return;
+  if (state_ == MachineState::jog) return jog_cancel();  // a hold cancels a jog
   if (state_ == MachineState::run) {
     record_.add_event(epoch(now_), "hold");
     state_ = MachineState::hold;
@@ -626,6 +642,55 @@ void Controller::soft_reset() {
   abort_to_reset();
 }
 
+int Controller::jog_command(const std::string& line) {
+  // gcode.c with GC_PARSER_JOG_MOTION: G1 and G94 enforced, F required (error:22), S and T
+  // unused words (error:36), only G20/G21, G90/G91 and G53 besides axis words, F and N
+  // (error:16). The parser's modes are left as they were; only its position follows the jog.
+  const std::string words = line.substr(3);
+  bool has_f = false, has_s_or_t = false, other_command = false;
+  for (size_t pos = 0; pos < words.size();) {
+    const char letter = words[pos++];
+    double value = 0;
+    if (!read_grbl_float(words, pos, value)) break;  // the parser below reports it
+    if (letter == 'F') has_f = true;
+    if (letter == 'S' || letter == 'T') has_s_or_t = true;
+    if (letter == 'M' || (letter == 'G' && value != 20 && value != 21 && value != 90 && value != 91 && value != 53))
+      other_command = true;
+  }
+  // These come before the parser's other checks here (GRBL checks repeated words, negative
+  // values and modal conflicts among the line's own words first).
+  if (!has_f) return kUndefinedFeedRate;
+  if (has_s_or_t) return kUnusedWords;
+  if (other_command) return kInvalidJogCommand;
+  GcState scratch = gc_;
+  LineResult r = execute_gcode_line("G1G94" + words, scratch, settings_);
+  if (r.status != kOk) return r.status;
+  actions_.clear();
+  for (const Action& a : r.actions) {
+    if (a.kind != Action::Kind::line) continue;
+    // jog_execute(): a target beyond the soft limits is refused, no alarm.
+    if (settings_.soft_limits() && outside_limits(a.target)) return kTravelExceeded;
+    actions_.push_back(a);
+    gc_.position = a.target;
+  }
+  action_checked_ = true;  // checked above
+  jog_line_ = true;
+  return kPending;
+}
+
+void Controller::jog_cancel() {
+  // serial.c: 0x85 acts only while jogging; the jog decelerates, then the planner is flushed.
+  if (state_ != MachineState::jog || jog_cancel_) return;
+  if (motion_.running()) {
+    jog_cancel_ = true;
+    motion_.hold(now_);
+  } else {
+    motion_.stop(now_);
+    gc_.position = motion_.position();
+    state_ = MachineState::idle;
+  }
+}
+
 void Controller::finish_homing() {
   homing_until_.reset();
   motion_.set_position(homed_position_);
@@ -682,6 +747,7 @@ void Controller::reinitialise(bool announce) {
   reset_after_response_ = false;
   hold_complete_ = false;
   soft_limit_stop_ = false;
+  jog_line_ = jog_cancel_ = false;
   wco_counter_ = ovr_counter_ = 0;
   gc_ = GcState{};
   gc_.position = motion_.position();
@@ -701,6 +767,7 @@ std::string Controller::state_name() const {
     case MachineState::alarm: return "Alarm";
     case MachineState::check: return "Check";
     case MachineState::home: return "Home";
+    case MachineState::jog: return "Jog";
   }
   return "Idle";
 }
@@ -708,7 +775,8 @@ std::string Controller::state_name() const {
 std::string Controller::status_report() {
   const int mask = settings_.status_mask();
   const bool inches = settings_.get(13) != 0;
-  const bool busy = state_ == MachineState::run || state_ == MachineState::hold;
+  const bool busy = state_ == MachineState::run || state_ == MachineState::hold || state_ == MachineState::jog ||
+                    state_ == MachineState::home;
   Vec3 pos = motion_.position();
   const Vec3 wco = gc_.g92;  // G54..G59 offsets are all zero here
   std::string r = "<" + state_name();

@@ -10,7 +10,8 @@
 // is dropped and counted in the Record as an overflow (one event per line hit) - except
 // during a critical alarm, when GRBL reads nothing and the job is already lost. Replies leave at
 // the same byte rate; the main loop stalls while more than 104 bytes (TX_BUFFER_SIZE) wait.
-// Bytes >= 0x80 (overrides, safety door, jog cancel) are not emulated and are ignored.
+// Of the bytes >= 0x80 only 0x85 (jog cancel) is emulated; the others (overrides, safety
+// door) are ignored.
 //
 // Main loop (protocol.c): takes bytes from the receive buffer into a line (80-byte line
 // buffer: 79 characters after dropping spaces, control characters and comments, else error:11),
@@ -40,6 +41,11 @@
 // buffers and the planner, resets the parser's modes (G92 too), prints the banner, and stays in
 // Alarm (printing "[MSG:'$H'|'$X' to unlock]") if it was in an alarm, else runs the startup lines. A reset at Hold:0 keeps the position and
 // gives Idle: GRBL's way to abort without losing position.
+// "$J=" jogging (jog.c, gcode.c): from Idle or Jog (else error:8); G1 and G94 enforced, F
+// required (error:22), S/T error:36, other commands than G20/G21 G90/G91 G53 error:16, a target
+// beyond the soft limits error:15 (no alarm). Answered once queued; state Jog while it runs
+// (G-code then error:9); the parser's modes stay, its position follows the jog. 0x85 (or "!")
+// while jogging decelerates, flushes the planner and gives Idle with the position kept.
 // Alarms: soft limits ($20=1, system_check_travel_limits()): machine space is -$13x..0 per
 // axis in stock 1.1h; with force_set_origin an axis homing towards negative ($23 bit set) is
 // 0..$13x. A target outside raises ALARM:2 when the line is executed (queued) - after a
@@ -105,7 +111,7 @@ struct ControllerOptions {
   bool force_set_origin = false;
 };
 
-enum class MachineState { idle, run, hold, alarm, check, home };
+enum class MachineState { idle, run, hold, alarm, check, home, jog };
 
 class Controller {
  public:
@@ -187,6 +193,8 @@ class Controller {
   void abort_to_reset();    // sys.abort: the executing line's "ok", then main()'s re-initialisation
   void finish_homing();
   int store_startup_line(int index, const std::string& line);
+  int jog_command(const std::string& line);  // "$J=...": status, or kPending with actions_ set
+  void jog_cancel();
   void run_startup_lines();
   void reinitialise(bool announce = true);  // what GRBL's main() does after every reset; the banner if `announce`
   std::string status_report();
@@ -231,7 +239,9 @@ class Controller {
   bool ok_owed_ = false;            // a line was executing when the alarm/reset struck
   std::optional<int64_t> homing_until_;  // ns: $H under way
   Vec3 homed_position_{};
-  bool homed_once_ = false;         // the switches are where the last $H found them
+  bool homed_once_ = false;
+  bool jog_line_ = false;           // the line under way is a "$J=" jog
+  bool jog_cancel_ = false;         // decelerating to cancel a jog (0x85, or "!" while jogging)         // the switches are where the last $H found them
   int wco_counter_ = 0, ovr_counter_ = 0;
   std::string build_info_;
   std::string startup_lines_[2];
