@@ -457,10 +457,19 @@ int Controller::system_command(const std::string& line) {
   switch (c1) {
     case '#':
       if (line.size() != 2) return kInvalidStatement;
-      for (int i = 54; i <= 59; ++i) emit("[G" + std::to_string(i) + ":0.000,0.000,0.000]\r\n");
-      emit("[G28:0.000,0.000,0.000]\r\n[G30:0.000,0.000,0.000]\r\n");
-      emit("[G92:" + axis_values(gc_.g92, false) + "]\r\n[TLO:0.000]\r\n[PRB:0.000,0.000,0.000:0]\r\n");
+    {
+      // report_ngc_parameters(), in the units $13 reports.
+      const bool inches = settings_.get(13) != 0;
+      for (int i = 0; i < 6; ++i)
+        emit("[G" + std::to_string(54 + i) + ":" + axis_values(gc_.coord_data[i], inches) + "]\r\n");
+      emit("[G28:" + axis_values(gc_.coord_data[6], inches) + "]\r\n[G30:" + axis_values(gc_.coord_data[7], inches) +
+           "]\r\n");
+      char tlo[32];
+      std::snprintf(tlo, sizeof tlo, inches ? "%.4f" : "%.3f", inches ? gc_.tlo / kMmPerInch : gc_.tlo);
+      emit("[G92:" + axis_values(gc_.g92, inches) + "]\r\n[TLO:" + tlo + "]\r\n[PRB:" +
+           axis_values(Vec3{}, inches) + ":0]\r\n");
       return kOk;
+    }
     case 'H': {
       if (!settings_.homing()) return kSettingDisabled;
       if (line.size() != 2) return kInvalidStatement;  // HOMING_SINGLE_AXIS_COMMANDS is off in 1.1h
@@ -513,6 +522,7 @@ int Controller::system_command(const std::string& line) {
       // the build info. Then mc_reset().
       if (line[5] != '$' && line[5] != '#' && line[5] != '*') return kInvalidStatement;
       if (line[5] != '#') settings_.restore_defaults();
+      if (line[5] != '$') gc_.coord_data = {};
       if (line[5] == '*') {
         startup_lines_[0].clear();
         startup_lines_[1].clear();
@@ -749,7 +759,9 @@ void Controller::reinitialise(bool announce) {
   soft_limit_stop_ = false;
   jog_line_ = jog_cancel_ = false;
   wco_counter_ = ovr_counter_ = 0;
+  const auto eeprom = gc_.coord_data;  // gc_init(): offsets come back from EEPROM
   gc_ = GcState{};
+  gc_.coord_data = eeprom;
   gc_.position = motion_.position();
   if (state_ != MachineState::alarm) state_ = MachineState::idle;
   if (!announce) return;
@@ -778,7 +790,7 @@ std::string Controller::status_report() {
   const bool busy = state_ == MachineState::run || state_ == MachineState::hold || state_ == MachineState::jog ||
                     state_ == MachineState::home;
   Vec3 pos = motion_.position();
-  const Vec3 wco = gc_.g92;  // G54..G59 offsets are all zero here
+  const Vec3 wco = gc_.wco();
   std::string r = "<" + state_name();
   if (mask & 1) {
     r += "|MPos:";
