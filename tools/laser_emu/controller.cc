@@ -205,7 +205,8 @@ void Controller::advance_to(int64_t now_us) {
 
 void Controller::run_main() {
   for (;;) {
-    if (halted_ || critical_ || state_ == MachineState::hold || soft_limit_stop_) return;
+    if (halted_ || critical_ || state_ == MachineState::hold || state_ == MachineState::sleep || soft_limit_stop_)
+      return;
     tx_blocked_ = tx_backlog() > static_cast<size_t>(kTxBufferSize);
     if (tx_blocked_) return;
     if (line_active_) {
@@ -295,6 +296,14 @@ void Controller::respond(int status) {
   if (reset_after_response_) {
     reset_after_response_ = false;
     soft_reset();
+  }
+  if (sleep_after_response_) {
+    // protocol_exec_rt_suspend(), STATE_SLEEP: spindle, coolant and steppers off, then only
+    // real-time commands run until a reset.
+    sleep_after_response_ = false;
+    motion_.stop(now_);
+    state_ = MachineState::sleep;
+    emit("[MSG:Sleeping]\r\n");
   }
 }
 
@@ -505,7 +514,9 @@ int Controller::system_command(const std::string& line) {
       return kPending;
     }
     case 'S':
-      return kInvalidStatement;  // $SLP (sleep) is not emulated
+      if (line != "$SLP") return kInvalidStatement;
+      sleep_after_response_ = true;  // EXEC_SLEEP: acted on once the "ok" is out
+      return kOk;
     case 'I':
       if (line.size() == 2) {
         emit("[VER:1.1h.20190830:" + build_info_ + "]\r\n[OPT:V" + (opt_.force_set_origin ? "Z" : "") +
@@ -562,7 +573,7 @@ int Controller::system_command(const std::string& line) {
 
 void Controller::feed_hold() {
   if (critical_ || state_ == MachineState::alarm || state_ == MachineState::check ||
-      state_ == MachineState::home)
+      state_ == MachineState::home || state_ == MachineState::sleep)
     return;
   if (state_ == MachineState::jog) return jog_cancel();  // a hold cancels a jog
   if (state_ == MachineState::run) {
@@ -763,7 +774,10 @@ void Controller::reinitialise(bool announce) {
   gc_ = GcState{};
   gc_.coord_data = eeprom;
   gc_.position = motion_.position();
+  // protocol_main_loop(): a reset out of Sleep is locked like one out of an alarm.
+  if (state_ == MachineState::sleep) state_ = MachineState::alarm;
   if (state_ != MachineState::alarm) state_ = MachineState::idle;
+  sleep_after_response_ = false;
   if (!announce) return;
   emit(kBanner);
   // protocol_main_loop(): locked, or the startup lines.
@@ -780,6 +794,7 @@ std::string Controller::state_name() const {
     case MachineState::check: return "Check";
     case MachineState::home: return "Home";
     case MachineState::jog: return "Jog";
+    case MachineState::sleep: return "Sleep";
   }
   return "Idle";
 }

@@ -21,7 +21,8 @@
 // planner is full, during buffer syncs (spindle changes, dwells, M2/M30, G92), feed holds and
 // critical alarms the main loop takes nothing from the receive buffer.
 // States: Idle, Run, Hold:1 (decelerating) / Hold:0 (stopped, ready to resume), Alarm, Check,
-// Home. Power-up with homing on ($22=1) is locked in Alarm (HOMING_INIT_LOCK).
+// Home, Jog, Sleep. "$SLP" (Idle or Alarm): "ok", then "[MSG:Sleeping]", beam and motion off,
+// nothing but "?" and 0x18 until a reset, which comes back locked in Alarm. Power-up with homing on ($22=1) is locked in Alarm (HOMING_INIT_LOCK).
 // "$I": "[VER:1.1h.20190830:INFO]" and "[OPT:V,15,128]" ("VZ" when built with
 // HOMING_FORCE_SET_ORIGIN, ControllerOptions::force_set_origin); "$I=INFO" stores INFO.
 // "$N0=LINE"/"$N1=LINE" (Idle only) execute LINE to check it and store it only if it runs;
@@ -111,7 +112,7 @@ struct ControllerOptions {
   bool force_set_origin = false;
 };
 
-enum class MachineState { idle, run, hold, alarm, check, home, jog };
+enum class MachineState { idle, run, hold, alarm, check, home, jog, sleep };
 
 class Controller {
  public:
@@ -240,6 +241,7 @@ class Controller {
   std::optional<int64_t> homing_until_;  // ns: $H under way
   Vec3 homed_position_{};
   bool homed_once_ = false;
+  bool sleep_after_response_ = false;  // "$SLP" answered: sleep next
   bool jog_line_ = false;           // the line under way is a "$J=" jog
   bool jog_cancel_ = false;         // decelerating to cancel a jog (0x85, or "!" while jogging)         // the switches are where the last $H found them
   int wco_counter_ = 0, ovr_counter_ = 0;

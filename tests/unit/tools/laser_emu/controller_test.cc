@@ -96,6 +96,25 @@ TEST(LaserEmuProtocol, UnlockAndCheckModeNeedTheRightState) {
   EXPECT_EQ(rig.exchange("G0 X1"), "ok\r\n");
 }
 
+TEST(LaserEmuProtocol, SleepStopsEverythingUntilAResetThatComesBackLocked) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("G1 F100 M3 S300"), "ok\r\n");  // M3 in G1 mode: lit at rest
+  EXPECT_GT(rig.ctl.laser_s(), 0.0);
+  EXPECT_EQ(rig.exchange("$SLP"), "ok\r\n");
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "[MSG:Sleeping]\r\n");
+  EXPECT_EQ(rig.ctl.laser_s(), 0.0);  // spindle_set_state(SPINDLE_DISABLE)
+  rig.send("G0 X-5\n?");
+  rig.run(100'000);
+  EXPECT_EQ(rig.take().rfind("<Sleep|MPos:0.000,0.000,0.000|", 0), 0u);  // only "?" is answered
+  rig.send("\x18");
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
+  EXPECT_EQ(rig.ctl.state(), MachineState::alarm);
+  EXPECT_EQ(rig.exchange("$SLPX"), "error:3\r\n");
+}
+
 constexpr double kByteUs = 1e6 * 10 / 115200;  // 86.8 us
 
 // Fills the planner with 15 slow moves (each 100 s long) and waits until all are answered.
