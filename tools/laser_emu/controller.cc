@@ -510,7 +510,9 @@ int Controller::system_command(const std::string& line) {
       }
       state_ = MachineState::home;
       actions_.clear();
-      homing_until_ = now_ + static_cast<int64_t>(seconds * opt_.time_scale * 1e9);
+      // At most 1e18 ns: a zero or tiny rate ($24/$25) would make it infinite.
+      const double ns = seconds * opt_.time_scale * 1e9;
+      homing_until_ = now_ + static_cast<int64_t>(std::isfinite(ns) ? std::min(ns, 1e18) : 1e18);
       return kPending;
     }
     case 'S':
