@@ -89,7 +89,7 @@ TEST(LaserEmuOffsets, ToolLengthOffsetShowsInTloAndWco) {
   rig.run(10'000);
   EXPECT_NE(rig.take().find("|WCO:0.000,0.000,2.500"), std::string::npos);
   ASSERT_EQ(rig.exchange("G0 Z0"), "ok\r\n");  // work Z0 is machine Z 2.5
-  rig.run(1'000'000);
+  rig.run(3'000'000);
   EXPECT_EQ(rig.ctl.position()[2], 2.5);
   EXPECT_EQ(rig.exchange("G43.1 X1"), "error:37\r\n");
   EXPECT_EQ(rig.exchange("G43.1 Z1 X1"), "error:37\r\n");
