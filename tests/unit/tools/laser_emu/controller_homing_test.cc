@@ -62,7 +62,8 @@ TEST(LaserEmuHoming, ForceSetOriginBuildHomesToZeroAndLimitsToZeroToTravel) {
   EXPECT_EQ(rig.ctl.position(), (Vec3{0, 0, 0}));
   EXPECT_EQ(rig.exchange("G0 X390 Y10"), "ok\r\n");
   EXPECT_EQ(rig.exchange("G0 Z-5"), "ok\r\n");  // Z homes towards positive: -200..0
-  rig.run(5'000'000);
+  rig.run(15'000'000);  // idle again, whatever the acceleration
+  ASSERT_EQ(rig.ctl.state(), MachineState::idle);
   rig.take();
   rig.send("G0 X401\n");
   rig.run(10'000);
