@@ -290,11 +290,16 @@ void Session::unlock() { command("$X"); }
 bool Session::answers_at_rest() {
   write_byte('?');
   const auto deadline = clock_.now() + t_.reply;
-  while (auto r = next(deadline))
+  while (auto r = next(deadline)) {
+    if (r->kind == Reply::banner) {  // a slow board's own start after all: a known state
+      info_.version = r->text;
+      return true;
+    }
     if (r->kind == Reply::status && parse_status(r->text)) {
       const bool empty = last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks;
       return (last_status_.state == "Idle" && empty) || last_status_.state == "Alarm";
     }
+  }
   return false;
 }
 
@@ -409,18 +414,19 @@ std::vector<std::string> Session::console(const std::string& line) {
   if (line.size() > kMaxLineChars)
     throw std::invalid_argument("a console line holds at most " + std::to_string(kMaxLineChars) + " characters");
   if (line.find_first_of("\r\n") != std::string::npos) throw std::invalid_argument("one console line at a time");
+  // $H is answered when the cycle ends, and GRBL may report nothing meanwhile.
+  const milliseconds quiet = upper.rfind("$H", 0) == 0 ? std::max<milliseconds>(t_.silent, milliseconds(60000)) : t_.silent;
   write_line(line);
   last_rx_ = clock_.now();
   auto last_poll = clock_.now();
   for (;;) {
     const auto now = clock_.now();
-    if (now - last_rx_ >= t_.silent)
-      throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(t_.silent));
+    if (now - last_rx_ >= quiet) throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(quiet));
     if (now - last_poll >= t_.poll) {
       write_byte('?');  // its report is not the operator's: not returned
       last_poll = now;
     }
-    auto l = read_line(std::min(last_poll + t_.poll, now + t_.silent));
+    auto l = read_line(std::min(last_poll + t_.poll, now + quiet));
     if (!l) continue;
     const Reply r = classify(*l);
     if (r.kind != Reply::status) out.push_back(*l);
