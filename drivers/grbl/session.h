@@ -1,8 +1,14 @@
 // The host side of a GRBL 1.1 session (../shared/protocols/grbl-1.1.md) over a Transport:
-// banner and setup ($I, $$), single commands by send-response, job streaming by character
-// counting (or send-response), check mode, feed hold / resume, and cancel that leaves the
-// beam off with the position kept. Follows GRBL 1.1h's own report.c/protocol.c formats, so
-// it works against real controllers, grbl-sim and tools/laser_emu alike.
+// banner and setup ($I, $$, $# for the work offset), single commands by send-response, job
+// streaming by character counting (or send-response) with a time left that counts down while
+// GRBL runs, check mode, feed hold / resume, cancel that leaves the beam off with the position
+// kept, and the operator's controls (home, jog, work zero here, a console line). Alarms are
+// handled as protocol.c does them: after ALARM:1/2 the reset waits for "[MSG:Reset to
+// continue]" (GRBL drops one sent before), and the $X lock is left to the operator. A
+// controller found at rest is not reset at connect (that would re-run its $N startup lines).
+// Where a job goes on the machine (start from bed/origin/here): machine_space.h.
+// Follows GRBL 1.1h's own report.c/protocol.c formats, so it works against real controllers,
+// grbl-sim and tools/laser_emu alike.
 //
 // Time: timeouts, polls and progress throttling are on the Clock given (real_clock() in the
 // daemon); the transport's reads must wait on the same clock (a SimulatedTransport on a
@@ -48,7 +54,12 @@ struct MachineInfo {
   double s_max = 1000, s_min = 0;  // $30, $31
   bool laser_mode = false;         // $32
   double max_travel_x = 0, max_travel_y = 0;  // $130/$131, mm
+  double max_travel_z = 0;                    // $132, mm
   bool soft_limits = false;                   // $20
+  bool homing = false;                        // $22
+  int homing_dir_mask = 0;                    // $23: bit i set = axis i homes towards negative
+  std::string build_options;                  // the letters of [OPT:letters,blocks,bytes], e.g. "VZL"
+  bool force_set_origin = false;              // 'Z' in build_options: HOMING_FORCE_SET_ORIGIN
   bool alarm_locked = false;  // in Alarm: G-code refused (error:9) until $X or $H
 };
 
@@ -81,11 +92,14 @@ class GrblError : public DeviceError {
   std::string line;
 };
 
-// GRBL raised an alarm. what(): "ALARM:2 soft limit: ...".
+// GRBL raised an alarm. what(): "ALARM:1 hard limit at line 12 (G1X500Y10): a limit switch
+// ...; check the machine, then home it ($H)" (codes.h alarm_advice).
 class GrblAlarm : public DeviceError {
  public:
-  explicit GrblAlarm(int code);
+  explicit GrblAlarm(int code, size_t line_number = 0, std::string line = {});
   int code;
+  size_t line_number;  // 1-based source line GRBL was executing (oldest unacknowledged); 0 if none
+  std::string line;    // that source line as written
 };
 
 class SetupError : public DeviceError {  // no banner, laser mode off ($32=0), bad $I, ...
@@ -114,8 +128,10 @@ class Session {
   explicit Session(Transport& link, Timeouts t = {}, Clock& clock = real_clock());
 
   // Waits for the banner "Grbl 1.1x ['$' for help]"; if none comes within timeouts.banner,
-  // sends a soft reset (0x18) once and waits again (that also stops an old queue still
-  // running from an earlier connection). Then $I and $$. Throws SetupError if there is no
+  // asks '?': a controller at rest (Idle with an empty planner, or Alarm) is used as it is;
+  // otherwise (no answer, a queue still running from an earlier connection, a hold, check
+  // mode) it sends a soft reset (0x18) once and waits again. Then $I, $$ and $# (work
+  // offset). Throws SetupError if there is no
   // banner, the firmware is not GRBL 1.1, or laser mode is off ($32=0). Notes an alarm lock.
   MachineInfo connect();
   const MachineInfo& info() const { return info_; }
@@ -126,6 +142,21 @@ class Session {
   Status query_status();  // sends '?', waits for the <...> report (timeouts.reply)
   void unlock();          // $X
 
+  // Operator controls (contract C). Each waits until done and throws as command() does.
+  void home();  // $H (up to 60 s of the clock), then waits for Idle
+  // $J=G91G21X..Y..F.. relative jog; waits until GRBL reports Idle again.
+  void jog(double dx_mm, double dy_mm, double feed_mm_min);
+  void set_origin_here();  // G10L20P1X0Y0: work zero G54 at the head's position (stored in EEPROM)
+  // One console line and every line GRBL answers, up to and including its ok / error:N (an
+  // error is returned, not thrown). A lone real-time byte ('?', '!', '~', 0x18, 0x80-0xFF) is
+  // sent as such: '?' returns the status report, 0x18 the lines up to the banner, the others
+  // nothing. Refuses (std::invalid_argument) '$RST=...' (wipes settings or offsets: not from a
+  // console) and lines longer than 79 characters. ALARM:N: resets as stream() does, GrblAlarm.
+  std::vector<std::string> console(const std::string& line);
+  // Last work coordinate offset seen (WCO, or G54+G92 from $# at connect); query_status()
+  // refreshes it. {0,0,0} when none seen.
+  std::array<double, 3> work_offset() const { return wco_.value_or(std::array<double, 3>{}); }
+
   // Dry run in GRBL check mode: $C, stream (G-code parsed, nothing moves), $C again, which
   // makes GRBL reset itself ("[MSG:Disabled]", ok, banner): waits for that banner.
   // Throws GrblError for the first refused line (after a soft reset that leaves check mode).
@@ -133,7 +164,10 @@ class Session {
 
   // Streams every line and returns once all are acknowledged and the machine is Idle again.
   // error:N: stops sending, feed hold, soft reset (the queued lines must not run), M5, then
-  // GrblError for that line. ALARM:N: soft reset (alarms 1 and 2 wait for one), GrblAlarm.
+  // GrblError for that line. ALARM:N: soft reset (for alarms 1 and 2 once GRBL has printed
+  // "[MSG:Reset to continue]", up to timeouts.stop), GrblAlarm with the oldest unacknowledged
+  // source line. Progress::seconds_left: estimates of the lines not yet executed (the planner's
+  // Bf: fill counted as not executed) less the time the current one has been running.
   // Controls::hold: '!' when it becomes true, '~' when it becomes false (again while GRBL still
   // reports Hold, since it drops a '~' that comes before the hold is complete).
   // Controls::cancel: '!' and the laser override to 10 %, up to 50 ms for Hold:0, then 0x18
@@ -174,7 +208,15 @@ class Session {
   // run_lines with emergency_stop() on any unexpected exception.
   void guarded_run(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress, bool check_mode);
   // After ALARM:N: soft reset so the alarm's lock-up ends and the queue is dropped.
-  void reset_after_alarm();
+  void reset_after_alarm(int code);
+  // After no banner: '?' answered with Idle or Alarm (a controller at rest whose banner went
+  // before we opened the port). Anything else, or no answer, is an unknown state.
+  bool answers_at_rest();
+  // $#: the work offset (G54 + G92, Z with the tool length offset) into wco_.
+  void read_offsets();
+  // Sends `line` and waits for its ok like command(), tolerating `quiet` without any answer.
+  void command_for(const std::string& line, std::chrono::milliseconds quiet);
+  void wait_idle(std::chrono::milliseconds limit, const std::string& what);
 
   Transport& link_;
   Timeouts t_;
