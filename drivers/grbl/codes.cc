@@ -67,7 +67,39 @@ constexpr std::array<std::string_view, 11> kAlarms = {
     "homing fail: could not find second limit switch for auto squared axis within search distances",
 };
 
+// Index = code: what happened, in words an operator acts on, and what to do next. Written
+// from GRBL 1.1h's limits.c / protocol.c behaviour, not its csv: the csv calls a soft-limit
+// alarm "safely unlocked", but unlocking a job that does not fit only moves the problem.
+constexpr std::array<std::string_view, 11> kAdvice = {
+    "",
+    "hard limit: a limit switch was hit, so GRBL stopped the head dead and its position is likely lost; "
+    "check the machine (what hit the switch, is the head free), then home it ($H)",
+    "soft limit: a move would have left the machine's travel ($130/$131), so GRBL stopped before it; the "
+    "position was kept, but the job does not fit where it was placed: check the placement (start from) "
+    "and the work area, then home the machine ($H) before the next job",
+    "abort during cycle: a reset stopped the head while it moved, so its position may be lost; home the "
+    "machine ($H) before the next job (or unlock it with $X if it has no homing switches)",
+    "probe fail: the probe was not in its expected state before the probe cycle; check the probe and its "
+    "wiring, then unlock ($X)",
+    "probe fail: the probe did not touch within the programmed travel; check the probe and the work, then "
+    "unlock ($X)",
+    "homing fail: the homing cycle was reset; home the machine again ($H)",
+    "homing fail: the safety door was opened during homing; close it, then home the machine again ($H)",
+    "homing fail: the pull-off did not clear the limit switch; check the switch and $27 (pull-off), then "
+    "home again ($H)",
+    "homing fail: no limit switch was found within the search distance; check the switches, their wiring "
+    "and $130/$131 (travel), then home again ($H)",
+    "homing fail: the second limit switch of the auto-squared axis was not found; check it, then home again "
+    "($H)",
+};
+
 }  // namespace
+
+std::string alarm_advice(int code) {
+  if (code < 1 || code >= static_cast<int>(kAdvice.size()))
+    return "unknown alarm code: check the machine, then home it ($H) or unlock it ($X)";
+  return std::string(kAdvice[code]);
+}
 
 std::string error_meaning(int code) {
   if (code < 1 || code >= static_cast<int>(kErrors.size()) || kErrors[code].empty()) return "unknown error code";

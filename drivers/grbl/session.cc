@@ -1,6 +1,9 @@
 #include "drivers/grbl/session.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <deque>
 #include <vector>
@@ -58,7 +61,20 @@ bool settled(const Status& s) {
 GrblError::GrblError(int c, size_t n, std::string l)
     : DeviceError(error_text(c, n, l)), code(c), line_number(n), line(std::move(l)) {}
 
-GrblAlarm::GrblAlarm(int c) : DeviceError("ALARM:" + std::to_string(c) + " " + alarm_meaning(c)), code(c) {}
+namespace {
+std::string alarm_text(int code, size_t line_number, const std::string& line) {
+  std::string where;
+  if (line_number > 0) where = " at line " + std::to_string(line_number) + " (" + trim(line) + ")";
+  const std::string advice = alarm_advice(code);
+  // "ALARM:1 hard limit at line 12 (G1X5): a limit switch was hit, ..."
+  const size_t colon = advice.find(':');
+  if (colon == std::string::npos) return "ALARM:" + std::to_string(code) + where + " " + advice;
+  return "ALARM:" + std::to_string(code) + " " + advice.substr(0, colon) + where + advice.substr(colon);
+}
+}  // namespace
+
+GrblAlarm::GrblAlarm(int c, size_t n, std::string l)
+    : DeviceError(alarm_text(c, n, l)), code(c), line_number(n), line(std::move(l)) {}
 
 Session::Session(Transport& link, Timeouts t, Clock& clock)
     : link_(link), t_(t), clock_(clock), last_rx_(clock.now()) {}
@@ -154,7 +170,10 @@ MachineInfo Session::connect() {
   last_status_ = Status{};
   // Boards with an auto-reset print the banner ~1-2 s after the port opens. Others (and
   // pseudo-terminals) printed it long ago: a soft reset makes them print it again.
-  if (!wait_banner(t_.banner)) {
+  if (!wait_banner(t_.banner) && !answers_at_rest()) {
+    // No banner and no sensible answer to '?': an unknown state, so a soft reset (it also
+    // stops a queue still running from an earlier connection). Otherwise no reset: a reset
+    // re-runs the user's $N startup lines.
     write_byte(kSoftReset);
     if (!wait_banner(t_.banner))
       throw SetupError("no GRBL banner within " + seconds_text(t_.banner) +
@@ -174,6 +193,9 @@ MachineInfo Session::connect() {
     } else if (auto opt = parse_opt("[" + r.text + "]")) {
       info_.planner_blocks = opt->first;
       info_.rx_buffer = opt->second;
+      const std::string body = r.text.substr(4);
+      info_.build_options = body.substr(0, body.find(','));
+      info_.force_set_origin = info_.build_options.find('Z') != std::string::npos;
     }
   }
   // Character counting needs room for the longest line (79 characters and '\n') plus one.
@@ -197,6 +219,10 @@ MachineInfo Session::connect() {
   info_.soft_limits = setting(20).value_or(0) == 1;
   info_.max_travel_x = setting(130).value_or(0);
   info_.max_travel_y = setting(131).value_or(0);
+  info_.max_travel_z = setting(132).value_or(0);
+  info_.homing = setting(22).value_or(0) == 1;
+  info_.homing_dir_mask = static_cast<int>(setting(23).value_or(0));
+  read_offsets();
 
   // Alarm (after power-up with homing enabled) is noted in alarm_locked. A controller left in
   // check mode, a hold, a door or sleep by someone else would not run the job as sent: a soft
@@ -223,14 +249,16 @@ Status Session::query_status() {
   }
 }
 
-void Session::command(const std::string& line) {
+void Session::command(const std::string& line) { command_for(line, t_.silent); }
+
+void Session::command_for(const std::string& line, milliseconds quiet) {
   write_line(line);
   last_rx_ = clock_.now();
   auto last_poll = clock_.now();
   for (;;) {
     const auto now = clock_.now();
-    if (now - last_rx_ >= t_.silent)
-      throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(t_.silent) +
+    if (now - last_rx_ >= quiet)
+      throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(quiet) +
                    " and stopped answering status requests");
     // Some lines (M5, G4) are answered only once motion before them ends: poll meanwhile so
     // a slow answer is told apart from a controller that is gone.
@@ -238,13 +266,13 @@ void Session::command(const std::string& line) {
       write_byte('?');
       last_poll = now;
     }
-    auto r = next(std::min(last_poll + t_.poll, now + t_.silent));
+    auto r = next(std::min(last_poll + t_.poll, now + quiet));
     if (!r) continue;
     switch (r->kind) {
       case Reply::ok: return;
       case Reply::error: throw GrblError(r->code, 0, line);
       case Reply::alarm:
-        reset_after_alarm();
+        reset_after_alarm(r->code);
         throw GrblAlarm(r->code);
       case Reply::banner:
         throw DeviceError("GRBL restarted while running '" + line + "'");
@@ -255,9 +283,179 @@ void Session::command(const std::string& line) {
 
 void Session::unlock() { command("$X"); }
 
-void Session::reset_after_alarm() {
-  // Hard and soft limit alarms lock GRBL up until a reset; for the others it drops what is
-  // still queued. The alarm lock stays: unlocking is the operator's decision.
+bool Session::answers_at_rest() {
+  write_byte('?');
+  const auto deadline = clock_.now() + t_.reply;
+  while (auto r = next(deadline))
+    if (r->kind == Reply::status && parse_status(r->text)) {
+      const bool empty = last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks;
+      return (last_status_.state == "Idle" && empty) || last_status_.state == "Alarm";
+    }
+  return false;
+}
+
+void Session::read_offsets() {
+  // "[G54:x,y,z]", "[G92:x,y,z]", "[TLO:z]": work = machine - (G54 + G92), Z less the TLO too.
+  std::array<double, 3> g54{}, g92{};
+  double tlo = 0;
+  bool seen = false;
+  const auto values = [](const std::string& text, size_t from) {
+    std::array<double, 3> v{};
+    size_t at = from;
+    for (int i = 0; i < 3 && at != std::string::npos; ++i) {
+      v[i] = std::strtod(text.c_str() + at, nullptr);
+      at = text.find(',', at);
+      if (at != std::string::npos) ++at;
+    }
+    return v;
+  };
+  for (const Reply& r : setup_query("$#")) {
+    if (r.kind != Reply::feedback) continue;
+    if (r.text.rfind("G54:", 0) == 0) g54 = values(r.text, 4), seen = true;
+    else if (r.text.rfind("G92:", 0) == 0) g92 = values(r.text, 4);
+    else if (r.text.rfind("TLO:", 0) == 0) tlo = std::strtod(r.text.c_str() + 4, nullptr);
+  }
+  if (seen) wco_ = std::array<double, 3>{g54[0] + g92[0], g54[1] + g92[1], g54[2] + g92[2] + tlo};
+}
+
+void Session::wait_idle(milliseconds limit, const std::string& what) {
+  const auto deadline = clock_.now() + limit;
+  for (;;) {
+    const Status s = query_status();
+    if (s.state == "Idle") return;
+    if (s.state == "Alarm") throw DeviceError("GRBL went into Alarm during " + what);
+    if (clock_.now() >= deadline)
+      throw DeviceError("GRBL was still " + s.state + " " + seconds_text(limit) + " after " + what);
+    auto r = next(clock_.now() + t_.poll);  // paces the polls; the reply is handled in next()
+    if (r && r->kind == Reply::alarm) {
+      reset_after_alarm(r->code);
+      throw GrblAlarm(r->code);
+    }
+  }
+}
+
+void Session::home() {
+  // GRBL answers $H only once the cycle ends and may report nothing meanwhile.
+  constexpr milliseconds kHoming{60000};
+  command_for("$H", kHoming);
+  wait_idle(t_.stop, "homing ($H)");
+  query_status();  // the report after $H carries the new WCO
+}
+
+void Session::jog(double dx_mm, double dy_mm, double feed_mm_min) {
+  if (!(feed_mm_min > 0)) throw std::invalid_argument("a jog needs a feed above 0 mm/min");
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "$J=G91G21X%.3fY%.3fF%.0f", dx_mm, dy_mm, feed_mm_min);
+  command(buf);  // ok: the jog was accepted (error:15 past the travel, error:8 not Idle)
+  // Time for the distance at the feed, plus room for acceleration.
+  const double seconds = std::hypot(dx_mm, dy_mm) / feed_mm_min * 60.0;
+  wait_idle(milliseconds(static_cast<long long>(seconds * 1000 * 2)) + t_.stop, std::string("jog ") + buf);
+}
+
+void Session::set_origin_here() {
+  command("G10L20P1X0Y0");
+  query_status();  // GRBL sends WCO in the next report after an offset change
+}
+
+std::vector<std::string> Session::console(const std::string& line) {
+  std::vector<std::string> out;
+  if (line.size() == 1 && (line[0] == '?' || line[0] == '!' || line[0] == '~' || line[0] == 0x18 ||
+                           static_cast<uint8_t>(line[0]) >= 0x80)) {
+    const uint8_t b = static_cast<uint8_t>(line[0]);
+    if (b == '?') {
+      write_byte(b);
+      const auto deadline = clock_.now() + t_.reply;
+      while (auto l = read_line(deadline)) {
+        out.push_back(*l);
+        const Reply r = classify(*l);
+        if (r.kind == Reply::status) {
+          if (auto st = parse_status(*l)) {
+            if (st->wco) wco_ = st->wco;
+            if (st->has_wpos && wco_) apply_wco(*st, *wco_);
+            last_status_ = *st;
+          }
+          return out;
+        }
+      }
+      throw Silent("GRBL did not answer '?' within " + seconds_text(t_.reply));
+    }
+    write_byte(b);
+    if (b != kSoftReset) return out;
+    const auto deadline = clock_.now() + t_.stop;
+    while (auto l = read_line(deadline)) {
+      out.push_back(*l);
+      const Reply r = classify(*l);
+      if (r.kind == Reply::banner) {
+        wco_.reset();
+        info_.alarm_locked = false;
+        return out;
+      }
+      if (r.kind == Reply::alarm) info_.alarm_locked = true;
+    }
+    throw Silent("GRBL did not restart within " + seconds_text(t_.stop) + " of a soft reset");
+  }
+  const std::string upper = [&] {
+    std::string u;
+    for (char ch : line)
+      if (ch != ' ') u += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    return u;
+  }();
+  if (upper.rfind("$RST=", 0) == 0)
+    throw std::invalid_argument("'" + line + "' wipes GRBL's settings or offsets; atelier does not send it from the console");
+  if (line.size() > kMaxLineChars)
+    throw std::invalid_argument("a console line holds at most " + std::to_string(kMaxLineChars) + " characters");
+  if (line.find_first_of("\r\n") != std::string::npos) throw std::invalid_argument("one console line at a time");
+  write_line(line);
+  last_rx_ = clock_.now();
+  auto last_poll = clock_.now();
+  for (;;) {
+    const auto now = clock_.now();
+    if (now - last_rx_ >= t_.silent)
+      throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(t_.silent));
+    if (now - last_poll >= t_.poll) {
+      write_byte('?');  // its report is not the operator's: not returned
+      last_poll = now;
+    }
+    auto l = read_line(std::min(last_poll + t_.poll, now + t_.silent));
+    if (!l) continue;
+    const Reply r = classify(*l);
+    if (r.kind != Reply::status) out.push_back(*l);
+    switch (r.kind) {
+      case Reply::status:
+        if (auto st = parse_status(*l)) {
+          if (st->wco) wco_ = st->wco;
+          if (st->has_wpos && wco_) apply_wco(*st, *wco_);
+          last_status_ = *st;
+          info_.alarm_locked = st->state == "Alarm";
+        }
+        break;
+      case Reply::ok:
+      case Reply::error: return out;
+      case Reply::alarm:
+        info_.alarm_locked = true;
+        reset_after_alarm(r.code);
+        throw GrblAlarm(r.code, 0, line);
+      case Reply::banner: throw DeviceError("GRBL restarted while running '" + line + "'");
+      case Reply::feedback:
+        if (r.text == "MSG:'$H'|'$X' to unlock") info_.alarm_locked = true;
+        else if (r.text == "MSG:Caution: Unlocked") info_.alarm_locked = false;
+        break;
+      default: break;
+    }
+  }
+}
+
+void Session::reset_after_alarm(int code) {
+  // Hard and soft limit alarms (1, 2) lock GRBL up until a reset, but protocol.c clears any
+  // reset already received once it has printed "[MSG:Reset to continue]" (report.c waits
+  // 500 ms after "ALARM:N" first) and answers no '?' meanwhile: a 0x18 sent before that
+  // message is lost and GRBL stays frozen. So wait for it. For the others a reset drops what
+  // is still queued. The alarm lock stays: unlocking is the operator's decision.
+  if (code == 1 || code == 2) {
+    const auto deadline = clock_.now() + t_.stop;
+    while (auto r = next(deadline))
+      if (r->kind == Reply::feedback && r->text == "MSG:Reset to continue") break;
+  }
   write_byte(kSoftReset);
   if (!wait_banner(t_.stop)) return;  // the caller reports the alarm either way
   try {
@@ -333,18 +531,34 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
   Progress prog;
   prog.total = n;
   Clock::time_point last_report{};
+  // Time left counts down while GRBL runs, not only at acks: the first line not yet executed
+  // (acknowledged lines still in the planner count as not executed: the status's Bf: fill, or
+  // the whole planner when reports carry no Bf:), less the time it has been running.
+  size_t running_line = 0;
+  double running_for = 0;  // seconds the machine reported Run while on running_line
+  Clock::time_point last_tick = clock_.now();
   const auto report = [&](bool force) {
-    if (!on_progress) return;
     const auto now = clock_.now();
+    if (last_status_.state == "Run") running_for += std::chrono::duration<double>(now - last_tick).count();
+    last_tick = now;
+    if (!on_progress) return;
     if (!force && now - last_report < kProgressEvery) return;
     last_report = now;
     prog.acked = acked;
     prog.status = last_status_;
-    // Acknowledged lines may still wait in the planner: count its used blocks as not run.
     size_t queued = 0;
-    if (!check_mode && last_status_.planner_free >= 0)
-      queued = static_cast<size_t>(std::max(0, info_.planner_blocks - last_status_.planner_free));
-    prog.seconds_left = left[acked - std::min(queued, acked)];
+    if (!check_mode)
+      queued = last_status_.planner_free >= 0
+                   ? static_cast<size_t>(std::max(0, info_.planner_blocks - last_status_.planner_free))
+                   : static_cast<size_t>(info_.planner_blocks);
+    if (!check_mode && acked == n && last_status_.state == "Idle") queued = 0;
+    const size_t first = acked - std::min(queued, acked);
+    if (first != running_line) {
+      running_line = first;
+      running_for = 0;
+    }
+    const double current = first < n && first < p.seconds.size() ? p.seconds[first] : 0.0;
+    prog.seconds_left = std::max(0.0, left[first] - std::min(running_for, current));
     on_progress(prog);
   };
 
@@ -429,9 +643,13 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         stop_machine();  // lines already queued would still run; the error says what matters
         throw GrblError(r->code, static_cast<size_t>(p.source_line[k]), p.source_text[k]);
       }
-      case Reply::alarm:
-        reset_after_alarm();
-        throw GrblAlarm(r->code);
+      case Reply::alarm: {
+        // The oldest line not yet acknowledged is the one GRBL was on.
+        const size_t line_number = in_flight.empty() ? 0 : static_cast<size_t>(p.source_line[in_flight.front()]);
+        const std::string text = in_flight.empty() ? "" : p.source_text[in_flight.front()];
+        reset_after_alarm(r->code);
+        throw GrblAlarm(r->code, line_number, text);
+      }
       case Reply::banner: {
         const int at = acked < n ? p.source_line[acked] : p.source_line.empty() ? 0 : p.source_line.back();
         throw DeviceError("GRBL restarted during the job (near line " + std::to_string(at) +

@@ -48,7 +48,12 @@ struct MachineInfo {
   double s_max = 1000, s_min = 0;  // $30, $31
   bool laser_mode = false;         // $32
   double max_travel_x = 0, max_travel_y = 0;  // $130/$131, mm
+  double max_travel_z = 0;                    // $132, mm
   bool soft_limits = false;                   // $20
+  bool homing = false;                        // $22
+  int homing_dir_mask = 0;                    // $23: bit i set = axis i homes towards negative
+  std::string build_options;                  // the letters of [OPT:letters,blocks,bytes], e.g. "VZL"
+  bool force_set_origin = false;              // 'Z' in build_options: HOMING_FORCE_SET_ORIGIN
   bool alarm_locked = false;  // in Alarm: G-code refused (error:9) until $X or $H
 };
 
@@ -81,11 +86,14 @@ class GrblError : public DeviceError {
   std::string line;
 };
 
-// GRBL raised an alarm. what(): "ALARM:2 soft limit: ...".
+// GRBL raised an alarm. what(): "ALARM:1 hard limit at line 12 (G1X500Y10): a limit switch
+// ...; check the machine, then home it ($H)" (codes.h alarm_advice).
 class GrblAlarm : public DeviceError {
  public:
-  explicit GrblAlarm(int code);
+  explicit GrblAlarm(int code, size_t line_number = 0, std::string line = {});
   int code;
+  size_t line_number;  // 1-based source line GRBL was executing (oldest unacknowledged); 0 if none
+  std::string line;    // that source line as written
 };
 
 class SetupError : public DeviceError {  // no banner, laser mode off ($32=0), bad $I, ...
@@ -125,6 +133,21 @@ class Session {
   void command(const std::string& line);
   Status query_status();  // sends '?', waits for the <...> report (timeouts.reply)
   void unlock();          // $X
+
+  // Operator controls (contract C). Each waits until done and throws as command() does.
+  void home();  // $H (up to 60 s of the clock), then waits for Idle
+  // $J=G91G21X..Y..F.. relative jog; waits until GRBL reports Idle again.
+  void jog(double dx_mm, double dy_mm, double feed_mm_min);
+  void set_origin_here();  // G10L20P1X0Y0: work zero G54 at the head's position (stored in EEPROM)
+  // One console line and every line GRBL answers, up to and including its ok / error:N (an
+  // error is returned, not thrown). A lone real-time byte ('?', '!', '~', 0x18, 0x80-0xFF) is
+  // sent as such: '?' returns the status report, 0x18 the lines up to the banner, the others
+  // nothing. Refuses (std::invalid_argument) '$RST=...' (wipes settings or offsets: not from a
+  // console) and lines longer than 79 characters. ALARM:N: resets as stream() does, GrblAlarm.
+  std::vector<std::string> console(const std::string& line);
+  // Last work coordinate offset seen (WCO, or G54+G92 from $# at connect); query_status()
+  // refreshes it. {0,0,0} when none seen.
+  std::array<double, 3> work_offset() const { return wco_.value_or(std::array<double, 3>{}); }
 
   // Dry run in GRBL check mode: $C, stream (G-code parsed, nothing moves), $C again, which
   // makes GRBL reset itself ("[MSG:Disabled]", ok, banner): waits for that banner.
@@ -174,7 +197,15 @@ class Session {
   // run_lines with emergency_stop() on any unexpected exception.
   void guarded_run(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress, bool check_mode);
   // After ALARM:N: soft reset so the alarm's lock-up ends and the queue is dropped.
-  void reset_after_alarm();
+  void reset_after_alarm(int code);
+  // After no banner: '?' answered with Idle or Alarm (a controller at rest whose banner went
+  // before we opened the port). Anything else, or no answer, is an unknown state.
+  bool answers_at_rest();
+  // $#: the work offset (G54 + G92, Z with the tool length offset) into wco_.
+  void read_offsets();
+  // Sends `line` and waits for its ok like command(), tolerating `quiet` without any answer.
+  void command_for(const std::string& line, std::chrono::milliseconds quiet);
+  void wait_idle(std::chrono::milliseconds limit, const std::string& what);
 
   Transport& link_;
   Timeouts t_;
