@@ -148,6 +148,13 @@ Daemon::Daemon(fs::path config_file, Config initial)
     if (d.driver == kGrblDriver) {
       LaserOptions options;
       options.check_first = c.laser_check_first;
+      // [laser] start_from (checked by the laser kinds' reader): the device's default placement.
+      for (const auto& [kind, table] : c.kind_defaults) {
+        const KindInfo* k = find_kind(kind);
+        if (!k || k->machine_input != MachineInput::gcode) continue;
+        if (auto from = table["laser"]["start_from"].value<std::string>())
+          if (auto parsed = grbl::parse_start_from(*from)) options.start_from = *parsed;
+      }
       options.mode = d.streaming == "send-response" ? grbl::StreamMode::send_response
                                                     : grbl::StreamMode::character_counting;
       devices_.push_back(std::make_unique<LaserDevice>(d, *jobs_, opener, resolve, options));
