@@ -157,6 +157,10 @@ void LaserDevice::run_machine_command(MachineRequest& req) {
     logged(sent, {"ok"});
   };
   set_state("busy", "operator command");
+  auto done = [this] {
+    std::lock_guard lock(mu_);
+    machine_request_.reset();
+  };
   std::string effect;
   try {
     auto port = resolve_();
@@ -211,10 +215,12 @@ void LaserDevice::run_machine_command(MachineRequest& req) {
     }
     link->close();
     set_last("operator: " + effect);
+    done();  // before the answer: the operator's next command must find the device free
     req.answer.set_value({{"device", config_.name}, {"lines", lines}, {"effect", effect}});
   } catch (const std::exception& e) {
     if (dynamic_cast<const LinkLost*>(&e)) set_state("offline", e.what());
     set_last(std::string("operator command failed: ") + e.what());
+    done();
     req.answer.set_exception(std::make_exception_ptr(BadInput(config_.name + ": " + e.what())));
   }
 }
@@ -333,10 +339,11 @@ bool LaserDevice::run_next() {
     }
   }
   if (command) {
-    run_machine_command(*command);
-    std::lock_guard lock(mu_);
-    machine_request_.reset();
-    if (frame) frame_request_ = frame;  // after the command
+    if (frame) {
+      std::lock_guard lock(mu_);
+      frame_request_ = frame;  // after the command
+    }
+    run_machine_command(*command);  // frees machine_request_ before it answers
     return true;
   }
   if (frame) {
