@@ -2,6 +2,7 @@
 //
 //   atelier-laser-emu --link PATH [--record FILE] [--render PNG] [--px-per-mm N] [--time-scale F]
 //                     [--work-area WxH] [--fault SPEC ...] [--replug-ms MS] [--baud B]
+//                     [--setting N=V ...] [--homing-origin stock|force]
 //
 // The controller model (tools/laser_emu/controller.h) runs on the steady clock; this file wires
 // it to a pty, paces nothing itself (the model times every byte at the baud rate), injects the
@@ -26,6 +27,8 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -140,6 +143,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> fault_specs;
   int64_t replug_ms = -1;
   int baud = 115200;
+  std::vector<std::string> setting_specs;
+  std::string homing_origin = "stock";
   app.add_option("--link", link_path, "symlink to create for the pty slave")->required();
   app.add_option("--record", record_path, "write the toolpath and events as JSON to FILE");
   app.add_option("--render", render_path, "write a PNG of what was burned");
@@ -151,9 +156,16 @@ int main(int argc, char** argv) {
   app.add_option("--replug-ms", replug_ms, "after a drop fault, replug after MS ms")->check(CLI::NonNegativeNumber);
   app.set_version_flag("--version", "atelier-laser-emu " ATELIER_VERSION, "print \"atelier-laser-emu VERSION\" and exit");
   app.add_option("--baud", baud, "serial rate that paces every byte (default 115200)")->check(CLI::PositiveNumber);
+  app.add_option("--setting", setting_specs,
+                 "N=V: a setting stored over the defaults, in order (repeatable; e.g. --setting 22=1 --setting 20=1)");
+  app.add_option("--homing-origin", homing_origin,
+                 "stock (default: homed machine space -$130..0 per axis) or force (built with "
+                 "HOMING_FORCE_SET_ORIGIN: axes homing towards negative, $23 bit set, in 0..$13x)")
+      ->check(CLI::IsMember({"stock", "force"}));
   app.footer(
-      "Behaves like GRBL 1.1h with laser mode on ($32=1, $30=1000, soft limits $20=1 over the work\n"
-      "area, machine origin front-left). See tools/laser_emu/controller.h for the details.\n"
+      "Behaves like GRBL 1.1h (defaults.h DEFAULTS_GENERIC) as a laser owner stores it: laser mode\n"
+      "$32=1, the work area as $130/$131, 80 steps/mm, 6000 mm/min, 500 mm/s^2; homing and soft\n"
+      "limits off until --setting 22=1 --setting 20=1. See tools/laser_emu/controller.h.\n"
       "Render: white image of the work area at --px-per-mm; machine (X,Y) mm is pixel\n"
       "(X*ppm, (H-Y)*ppm), Y up; burned segments dark, darker for more power.\n"
       "Faults (--fault SPEC, repeatable; lines numbered from 1 over the emulator's life, every\n"
@@ -176,6 +188,21 @@ int main(int argc, char** argv) {
   if (!area) {
     std::cerr << "atelier-laser-emu: --work-area " << work_area << ": expected WxH in mm, e.g. 400x300\n";
     return 2;
+  }
+
+  std::vector<std::pair<int, double>> stored;
+  for (const auto& spec : setting_specs) {
+    const auto eq = spec.find('=');
+    char* end = nullptr;
+    const long id = eq == std::string::npos ? -1 : std::strtol(spec.c_str(), &end, 10);
+    const char* value_text = eq == std::string::npos ? "" : spec.c_str() + eq + 1;
+    char* value_end = nullptr;
+    const double value = std::strtod(value_text, &value_end);
+    if (id < 0 || end != spec.c_str() + eq || value_end == value_text || *value_end != '\0') {
+      std::cerr << "atelier-laser-emu: --setting " << spec << ": expected N=V, e.g. 22=1\n";
+      return 2;
+    }
+    stored.emplace_back(static_cast<int>(id), value);
   }
 
   struct sigaction sa {};
@@ -206,6 +233,8 @@ int main(int argc, char** argv) {
       o.halt_after_line = faults.drop_at_line;
     o.epoch_at_zero_s = epoch_at_zero;
     o.banner_waits_for_host = true;  // printed when a host opens the port
+    o.settings = stored;
+    o.force_set_origin = homing_origin == "force";
     return std::make_unique<le::Controller>(o, record, clock_us());
   };
 
@@ -216,7 +245,13 @@ int main(int argc, char** argv) {
     std::cerr << "atelier-laser-emu: " << e.what() << '\n';
     return 1;
   }
-  auto ctl = power_on(0);
+  std::unique_ptr<le::Controller> ctl;
+  try {
+    ctl = power_on(0);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "atelier-laser-emu: --setting: " << e.what() << '\n';
+    return 2;
+  }
   std::cout << "atelier-laser-emu: GRBL 1.1h on " << link->slave_name() << " linked at " << link_path << std::endl;
 
   RecordWriter writer(record_path, render_path, ppm);

@@ -1,5 +1,7 @@
-// A pure model of a GRBL 1.1h laser controller (laser mode $32=1, S max $30=1000): bytes in,
-// bytes out, on a clock the caller drives. No I/O, no real time: tests run it in virtual time.
+// A pure model of a GRBL 1.1h laser controller (1.1h.20190830, laser mode $32=1, S max
+// $30=1000; settings in settings.h): bytes in, bytes out, on a clock the caller drives. No I/O,
+// no real time: tests run it in virtual time. Written from GRBL's own source (protocol.c,
+// report.c, system.c, limits.c, settings.c, gcode.c).
 //
 // Serial line (serial.c): bytes written by the host arrive one per byte time (10 bits at the
 // baud rate: 86.8 us at 115200): arrival = max(write time, previous arrival + byte time).
@@ -8,7 +10,8 @@
 // is dropped and counted in the Record as an overflow (one event per line hit) - except
 // during a critical alarm, when GRBL reads nothing and the job is already lost. Replies leave at
 // the same byte rate; the main loop stalls while more than 104 bytes (TX_BUFFER_SIZE) wait.
-// Bytes >= 0x80 (overrides, safety door, jog cancel) are not emulated and are ignored.
+// Of the bytes >= 0x80 only 0x85 (jog cancel) is emulated; the others (overrides, safety
+// door) are ignored.
 //
 // Main loop (protocol.c): takes bytes from the receive buffer into a line (80-byte line
 // buffer: 79 characters after dropping spaces, control characters and comments, else error:11),
@@ -17,22 +20,44 @@
 // once the line is executed: motion lines when queued in the 15-block planner. While the
 // planner is full, during buffer syncs (spindle changes, dwells, M2/M30, G92), feed holds and
 // critical alarms the main loop takes nothing from the receive buffer.
-// States: Idle, Run, Hold:1 (decelerating) / Hold:0 (stopped, ready to resume), Alarm, Check.
+// States: Idle, Run, Hold:1 (decelerating) / Hold:0 (stopped, ready to resume), Alarm, Check,
+// Home, Jog, Sleep. "$SLP" (Idle or Alarm): "ok", then "[MSG:Sleeping]", beam and motion off,
+// nothing but "?" and 0x18 until a reset, which comes back locked in Alarm. Power-up with homing on ($22=1) is locked in Alarm (HOMING_INIT_LOCK).
+// "$I": "[VER:1.1h.20190830:INFO]" and "[OPT:V,15,128]" ("VZ" when built with
+// HOMING_FORCE_SET_ORIGIN, ControllerOptions::force_set_origin); "$I=INFO" stores INFO.
+// "$N0=LINE"/"$N1=LINE" (Idle only) execute LINE to check it and store it only if it runs;
+// after every reset that leaves the controller unlocked, and after "$H", each stored line runs
+// and is answered ">LINE:ok" or ">LINE:error:N". "$RST=$" compiled defaults, "$RST=#" offsets,
+// "$RST=*" both plus startup lines and build info; each then resets.
+// "$H" (mc_homing_cycle(): Z, then X and Y) takes the time of seek ($25), pull-off ($27),
+// locate ($24) and pull-off moves with the $26 debounce after each; it ends at the home
+// position: stock, an axis homing towards negative ($23 bit) at -$13x + $27, otherwise at
+// -$27; with force_set_origin every axis at 0. A 0x18 while homing is ALARM:6.
 //
 // Real-time commands: "?" status report "<Idle|MPos:0.000,0.000,0.000|FS:0,0>" (WPos when $10
 // bit 0 is clear; "|Bf:blocks,bytes" free space when $10 has value 2 set; "|WCO:" every 10th
 // (30th when busy) report and "|Ov:100,100,100" plus "|A:S"/"|A:C" when the beam is on, on the
 // counters GRBL uses); "!" feed hold (from Run or Idle); "~" resume (only from Hold:0);
-// 0x18 soft reset: in motion (Run, Hold:1) ALARM:3 first; flushes both buffers and the
-// planner, resets the parser's modes, prints the banner, and stays in Alarm (printing
-// "[MSG:'$H'|'$X' to unlock]") if it was in an alarm. A reset at Hold:0 keeps the position and
+// 0x18 soft reset: in motion (Run, Hold:1) ALARM:3 first (and its 500 ms); flushes both
+// buffers and the planner, resets the parser's modes (G92 too), prints the banner, and stays in
+// Alarm (printing "[MSG:'$H'|'$X' to unlock]") if it was in an alarm, else runs the startup lines. A reset at Hold:0 keeps the position and
 // gives Idle: GRBL's way to abort without losing position.
-// Alarms: soft limits ($20=1; machine space 0..$130 x 0..$131): a target outside raises
-// ALARM:2 when the line is executed (queued) - after a controlled feed hold if moving - with
-// "[MSG:Reset to continue]"; that line gets no answer and, as in GRBL's critical-event loop,
-// nothing else is answered (not even "?") until 0x18. ALARM:1 (hard limit; also
-// ControllerOptions::alarm_at_line) is the same but stops the head dead. Other alarm codes
-// injected by alarm_at_line print ALARM:N, then reset like ALARM:3.
+// "$J=" jogging (jog.c, gcode.c): from Idle or Jog (else error:8); G1 and G94 enforced, F
+// required (error:22), S/T error:36, other commands than G20/G21 G90/G91 G53 error:16, a target
+// beyond the soft limits error:15 (no alarm). Answered once queued; state Jog while it runs
+// (G-code then error:9); the parser's modes stay, its position follows the jog. 0x85 (or "!")
+// while jogging decelerates, flushes the planner and gives Idle with the position kept.
+// Alarms: soft limits ($20=1, system_check_travel_limits()): machine space is -$13x..0 per
+// axis in stock 1.1h; with force_set_origin an axis homing towards negative ($23 bit set) is
+// 0..$13x. A target outside raises ALARM:2 when the line is executed (queued) - after a
+// controlled feed hold if moving. ALARM:1 (hard limit; ControllerOptions::alarm_at_line) stops
+// the head dead. Every alarm prints "ALARM:N", then report_alarm_message() waits 500 ms
+// (kAlarmReportDelayUs) during which nothing runs and real-time bytes are lost. ALARM:1/2 then
+// print "[MSG:Reset to continue]" and stay in the critical-event loop: nothing is answered,
+// not even "?", until a 0x18 sent after that message (one sent before it is lost). Other codes
+// (ALARM:3 reset in motion, injected ones) reset by themselves after the delay. On the reset,
+// the line that was executing when the alarm struck gets its "ok", then the banner and
+// "[MSG:'$H'|'$X' to unlock]".
 //
 // Units: the public clock is microseconds (steady, any origin, never decreasing); inside,
 // nanoseconds. Positions mm. Threading: one Controller is used from one thread; the Record
@@ -46,6 +71,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "tools/laser_emu/gcode.h"
 #include "tools/laser_emu/motion.h"
@@ -73,9 +99,20 @@ struct ControllerOptions {
   // The power-on banner waits for host_connected() (a program on a pty that no host has
   // opened yet: an Uno prints it after the reset that opening the port causes).
   bool banner_waits_for_host = false;
+  // Settings the owner stored ("$N=V" in this order) over Settings' laser values; a value GRBL
+  // refuses (e.g. $20=1 before $22=1: error:10) makes the constructor throw
+  // std::invalid_argument naming it.
+  std::vector<std::pair<int, double>> settings;
+  // Startup lines $N0/$N1 stored in EEPROM at power-on (checked like "$Nx=" when applied;
+  // one that fails makes the constructor throw).
+  std::string startup_lines[2];
+  // The build: false = stock 1.1h (every axis homed at -$13x..0); true = built with
+  // HOMING_FORCE_SET_ORIGIN ("Z" in [OPT:], homed axes at 0, an axis homing towards negative,
+  // $23 bit set, then lives in 0..$13x).
+  bool force_set_origin = false;
 };
 
-enum class MachineState { idle, run, hold, alarm, check };
+enum class MachineState { idle, run, hold, alarm, check, home, jog, sleep };
 
 class Controller {
  public:
@@ -83,6 +120,7 @@ class Controller {
   static constexpr int kTxBufferSize = 104;   // TX_BUFFER_SIZE
   static constexpr int kLineBufferSize = 80;  // LINE_BUFFER_SIZE, terminator included
   static constexpr const char* kBanner = "\r\nGrbl 1.1h ['$' for help]\r\n";
+  static constexpr int64_t kAlarmReportDelayUs = 500'000;  // report_alarm_message()'s delay_ms(500)
 
   // Power-on at `now_us`: the banner is the first output (see banner_waits_for_host).
   Controller(ControllerOptions options, Record& record, int64_t now_us);
@@ -101,7 +139,9 @@ class Controller {
   int64_t now_us() const { return now_ / 1000; }
   MachineState state() const { return state_; }
   bool hold_complete() const { return hold_complete_; }
-  bool critical_alarm() const { return critical_; }
+  // In GRBL's critical-event loop (ALARM:1/2, its 500 ms delay included): only 0x18 after
+  // "[MSG:Reset to continue]" gets out of it.
+  bool critical_alarm() const { return critical_ && alarm_critical_; }
   bool halted() const { return halted_; }  // halt_after_line reached
   std::string state_name() const;  // as in status reports: "Idle", "Hold:1", ...
   Vec3 position() const { return motion_.position(); }
@@ -150,6 +190,13 @@ class Controller {
   void soft_reset();
   void raise_alarm(int code);
   bool outside_limits(const Vec3& target) const;
+  void end_alarm_report();  // report_alarm_message()'s delay is over
+  void abort_to_reset();    // sys.abort: the executing line's "ok", then main()'s re-initialisation
+  void finish_homing();
+  int store_startup_line(int index, const std::string& line);
+  int jog_command(const std::string& line);  // "$J=...": status, or kPending with actions_ set
+  void jog_cancel();
+  void run_startup_lines();
   void reinitialise(bool announce = true);  // what GRBL's main() does after every reset; the banner if `announce`
   std::string status_report();
   double epoch(int64_t t) const { return opt_.epoch_at_zero_s + static_cast<double>(t) * 1e-9; }
@@ -188,6 +235,15 @@ class Controller {
   bool critical_ = false;
   bool halted_ = false;
   bool soft_limit_stop_ = false;    // decelerating before ALARM:2
+  std::optional<int64_t> alarm_report_until_;  // ns: inside report_alarm_message()'s delay
+  bool alarm_critical_ = false;     // the alarm being reported is ALARM:1/2
+  bool ok_owed_ = false;            // a line was executing when the alarm/reset struck
+  std::optional<int64_t> homing_until_;  // ns: $H under way
+  Vec3 homed_position_{};
+  bool homed_once_ = false;
+  bool sleep_after_response_ = false;  // "$SLP" answered: sleep next
+  bool jog_line_ = false;           // the line under way is a "$J=" jog
+  bool jog_cancel_ = false;         // decelerating to cancel a jog (0x85, or "!" while jogging)         // the switches are where the last $H found them
   int wco_counter_ = 0, ovr_counter_ = 0;
   std::string build_info_;
   std::string startup_lines_[2];

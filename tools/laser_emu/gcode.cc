@@ -16,7 +16,7 @@ enum : int {
   kNoAxisWords = 26, kInvalidLineNumber = 27, kValueWordMissing = 28,
   kG53InvalidMotionMode = 30, kAxisWordsExist = 31, kNoAxisWordsInPlane = 32,
   kInvalidTarget = 33, kArcRadiusError = 34, kNoOffsetsInPlane = 35, kUnusedWords = 36,
-  kMaxValueExceeded = 38,
+  kMaxValueExceeded = 38, kUnsupportedCoordSys = 29, kG43DynamicAxisError = 37,
 };
 
 constexpr double kMmPerInch = 25.4;
@@ -29,8 +29,8 @@ constexpr double kMaxArcSegments = 65535;  // GRBL counts arc chords in a uint16
 enum ModalGroup { G0 = 0, G1, G2, G3, G4, G5, G6, G7, G8, G12, G13, M4, M7, M8 };
 enum Word { F = 0, I, J, K, L, N, P, R, S, T, X, Y, Z };
 
-enum class AxisCommand { none, non_modal, motion };
-enum class NonModal { none, dwell, absolute_override, set_offset, reset_offset };
+enum class AxisCommand { none, non_modal, motion, tool_length };
+enum class NonModal { none, dwell, absolute_override, set_offset, reset_offset, set_coord_data, go_home, set_home };
 
 }  // namespace
 
@@ -92,6 +92,8 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
   AxisCommand axis_command = AxisCommand::none;
   NonModal non_modal = NonModal::none;
   int program_flow = 0;  // 0 running, 1 M0 pause, 2 M2, 30 M30
+  int home_index = 6;    // G28: 6, G30: 7 in coord_data
+  int tool_length = -1;  // G49: 0, G43.1: 1
   Vec3 xyz{}, ijk{};
 
   // --- Step 1: read every word, catching modal-group and repeat violations (gc_execute_line).
@@ -124,6 +126,27 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
           group = G0;
           non_modal = mantissa == 0 ? NonModal::set_offset : NonModal::reset_offset;
           mantissa = 0;
+          break;
+        case 10: case 28: case 30:
+          if (int_value == 10 && mantissa != 0) return fail(kUnsupportedCommand);
+          if (mantissa != 0 && mantissa != 10) return fail(kUnsupportedCommand);
+          if (mantissa == 0) {  // G28.1/G30.1 take axis words as an implicit motion
+            if (axis_command != AxisCommand::none) return fail(kAxisCommandConflict);
+            axis_command = AxisCommand::non_modal;
+          }
+          group = G0;
+          home_index = int_value == 28 ? 6 : 7;
+          non_modal = int_value == 10 ? NonModal::set_coord_data : mantissa == 0 ? NonModal::go_home : NonModal::set_home;
+          mantissa = 0;
+          break;
+        case 43: case 49:
+          if (axis_command != AxisCommand::none) return fail(kAxisCommandConflict);
+          axis_command = AxisCommand::tool_length;
+          if (int_value == 49) tool_length = 0;
+          else if (mantissa == 10) tool_length = 1;
+          else return fail(kUnsupportedCommand);  // G43 (from a tool table) is not in GRBL
+          mantissa = 0;
+          group = G8;
           break;
         case 0: case 1: case 2: case 3:
           if (axis_command != AxisCommand::none) return fail(kAxisCommandConflict);
@@ -252,19 +275,49 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
     for (int i = 0; i < 3; ++i)
       if (axis_words & (1u << i)) xyz[i] *= kMmPerInch;
 
-  // Work coordinates: every G54..G59 offset is zero here (no G10), so WCS = G92 only.
+  // [14.] G43.1 takes exactly a Z word.
+  if (axis_command == AxisCommand::tool_length && tool_length == 1 && axis_words != 4u)
+    return fail(kG43DynamicAxisError);
+  // [15.-19.] Work coordinates: WPos = MPos - G5x - G92 - TLO (Z).
+  const Vec3 block_coord = state.coord_data[block.coord_select];
   Vec3 g92 = state.g92;
   Vec3 target = state.position;
-  if (non_modal == NonModal::set_offset) {
+  Vec3 home{};           // G28/G30: the stored position (only the axes named, when any)
+  int coord_index = -1;  // G10: which coord_data entry it writes
+  Vec3 coord_value{};
+  if (non_modal == NonModal::set_coord_data) {
+    if (!axis_words) return fail(kNoAxisWords);
+    if (!(value_words & ((1u << P) | (1u << L)))) return fail(kValueWordMissing);
+    const double p = std::trunc(values[P]);
+    if (p > 6) return fail(kUnsupportedCoordSys);
+    if (values[L] != 20) {
+      if (values[L] != 2 || (value_words & (1u << R))) return fail(kUnsupportedCommand);
+    }
+    value_words &= ~((1u << L) | (1u << P));
+    coord_index = p > 0 ? static_cast<int>(p) - 1 : block.coord_select;
+    coord_value = state.coord_data[coord_index];
+    for (int i = 0; i < 3; ++i) {
+      if (!(axis_words & (1u << i))) continue;
+      if (values[L] == 20) coord_value[i] = state.position[i] - state.g92[i] - xyz[i] - (i == 2 ? state.tlo : 0.0);
+      else coord_value[i] = xyz[i];
+    }
+  } else if (non_modal == NonModal::set_offset) {
     if (!axis_words) return fail(kNoAxisWords);
     for (int i = 0; i < 3; ++i)
-      if (axis_words & (1u << i)) g92[i] = state.position[i] - xyz[i];
-  } else if (axis_words) {
+      if (axis_words & (1u << i)) g92[i] = state.position[i] - block_coord[i] - xyz[i] - (i == 2 ? state.tlo : 0.0);
+  } else if (axis_words && axis_command != AxisCommand::tool_length) {
     for (int i = 0; i < 3; ++i) {
       if (!(axis_words & (1u << i))) continue;
       if (non_modal == NonModal::absolute_override) target[i] = xyz[i];
       else if (block.incremental) target[i] = state.position[i] + xyz[i];
-      else target[i] = xyz[i] + state.g92[i];
+      else target[i] = xyz[i] + block_coord[i] + state.g92[i] + (i == 2 ? state.tlo : 0.0);
+    }
+  }
+  if (non_modal == NonModal::go_home) {
+    home = state.coord_data[home_index];
+    if (axis_words) {
+      for (int i = 0; i < 3; ++i)
+        if (!(axis_words & (1u << i))) home[i] = state.position[i];
     }
   }
   if (non_modal == NonModal::absolute_override && block.motion != 0 && block.motion != 1)
@@ -370,10 +423,33 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
     a.seconds = values[P];
     acts.push_back(a);
   }
-  if (state.coord_select != block.coord_select || non_modal == NonModal::set_offset ||
-      non_modal == NonModal::reset_offset) {
+  if (axis_command == AxisCommand::tool_length) next.tlo = tool_length == 1 ? xyz[2] : 0.0;
+  bool wco_changed = state.coord_select != block.coord_select || non_modal == NonModal::set_offset ||
+                     non_modal == NonModal::reset_offset || next.tlo != state.tlo;
+  if (non_modal == NonModal::set_coord_data) {
+    next.coord_data[coord_index] = coord_value;  // an EEPROM write: GRBL syncs the buffer first
+    if (coord_index == next.coord_select) wco_changed = true;
+    else acts.push_back(Action{Action::Kind::sync});
+  }
+  if (non_modal == NonModal::set_home) {
+    next.coord_data[home_index] = state.position;
+    acts.push_back(Action{Action::Kind::sync});
+  }
+  if (wco_changed) {
     if (non_modal == NonModal::reset_offset) next.g92 = Vec3{};
     acts.push_back(Action{Action::Kind::wco_change});
+  }
+  if (non_modal == NonModal::go_home) {
+    // G28/G30: rapid to the intermediate point (when axis words are given), then home.
+    for (const Vec3& to : axis_words ? std::vector<Vec3>{target, home} : std::vector<Vec3>{home}) {
+      Action a{Action::Kind::line};
+      a.target = to;
+      a.rapid = true;
+      a.spindle = next.spindle;
+      a.s = 0;
+      acts.push_back(a);
+    }
+    next.position = home;
   }
 
   if (next.motion != 80 && axis_command == AxisCommand::motion) {

@@ -4,15 +4,16 @@
 // the parser's new modal state plus a list of actions for the controller to run in order
 // (planner blocks, buffer syncs, spindle changes, dwells, program end).
 //
-// Supported: G0 G1 G2 G3 (arcs cut into chords as mc_arc() does, $12 tolerance) G4 G17 G18 G19
-// G20 G21 G40 G53 G54..G59 (all offsets zero) G61 G80 G90 G91 G91.1 G92 G92.1 G93 G94, M0 M1 M2
-// M30 M3 M4 M5 M7 M8 M9, F S T N X Y Z I J K R P. Not emulated, answered error:20: G10 G28 G30
-// G38.x G43.1 G49 (GRBL supports them; a laser job does not use them).
+// Supported: G0 G1 G2 G3 (arcs cut into chords as mc_arc() does, $12 tolerance) G4 G10 L2/L20
+// G17 G18 G19 G20 G21 G28 G28.1 G30 G30.1 G40 G43.1 G49 G53 G54..G59 G61 G80 G90 G91 G91.1 G92
+// G92.1 G93 G94, M0 M1 M2 M30 M3 M4 M5 M7 M8 M9, F S T N X Y Z I J K L R P. Not emulated,
+// answered error:20: G38.x (probing).
 // Errors (GRBL numbering): 1 expected letter, 2 bad number, 4 negative value, 20 unsupported,
 // 21 modal group violation, 22 feed rate not set, 23 non-integer G/M, 24 axis command conflict,
 // 25 word repeated, 26 no axis words, 27 line number too big, 28 value word (P) missing,
-// 30 G53 without G0/G1, 31 axis words with G80, 32 no axis words in plane, 33 invalid target,
-// 34 arc radius error, 35 no offsets in plane, 36 unused words, 38 tool number > 255.
+// 29 G10 P beyond 6, 30 G53 without G0/G1, 31 axis words with G80, 32 no axis words in plane, 33 invalid target,
+// 34 arc radius error, 35 no offsets in plane, 36 unused words, 37 G43.1 without exactly Z,
+// 38 tool number > 255.
 // Units: mm and mm/min inside (G20 input is converted), seconds for dwells.
 // Not thread-safe (plain functions over value types).
 #pragma once
@@ -45,6 +46,18 @@ struct GcState {
   double s = 0;     // programmed spindle speed / laser power
   Vec3 position{};  // machine mm
   Vec3 g92{};       // G92 offset, mm
+  double tlo = 0;   // G43.1 tool length offset (Z), mm
+  // What GRBL keeps in EEPROM (survives resets; the controller carries it over): G54..G59
+  // offsets (0..5), G28 (6) and G30 (7) positions, machine mm.
+  std::array<Vec3, 8> coord_data{};
+
+  // Work coordinate offset: WPos = MPos - WCO (G5x offset + G92 + TLO on Z), mm.
+  Vec3 wco() const {
+    Vec3 w = coord_data[coord_select];
+    for (int i = 0; i < 3; ++i) w[i] += g92[i];
+    w[2] += tlo;
+    return w;
+  }
 
   std::string modes_report() const;  // "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]"
 };

@@ -30,17 +30,25 @@ constexpr int kStatusOk = 0, kInvalidStatement = 3, kNegativeValue = 4, kStepPul
 
 }  // namespace
 
-Settings::Settings(double work_w_mm, double work_h_mm) : work_w_(work_w_mm), work_h_(work_h_mm) {
+Settings::Settings(double work_w_mm, double work_h_mm) {
   restore_defaults();
+  // What the owner of a diode laser stores over the compiled defaults.
+  values_[32] = 1;
+  values_[130] = work_w_mm;
+  values_[131] = work_h_mm;
+  values_[100] = values_[101] = 80;
+  values_[110] = values_[111] = 6000;
+  values_[120] = values_[121] = 500;
 }
 
 void Settings::restore_defaults() {
+  // defaults.h, DEFAULTS_GENERIC (accelerations in mm/s^2 as "$$" shows them).
   values_ = {
       {0, 10},     {1, 25},     {2, 0},      {3, 0},      {4, 0},      {5, 0},      {6, 0},
-      {10, 1},     {11, 0.010}, {12, 0.002}, {13, 0},     {20, 1},     {21, 0},     {22, 0},
-      {23, 3},     {24, 25},    {25, 500},   {26, 250},   {27, 1},     {30, 1000},  {31, 0},
-      {32, 1},     {100, 80},   {101, 80},   {102, 250},  {110, 6000}, {111, 6000}, {112, 500},
-      {120, 500},  {121, 500},  {122, 10},   {130, work_w_}, {131, work_h_}, {132, 50},
+      {10, 1},     {11, 0.010}, {12, 0.002}, {13, 0},     {20, 0},     {21, 0},     {22, 0},
+      {23, 0},     {24, 25},    {25, 500},   {26, 250},   {27, 1},     {30, 1000},  {31, 0},
+      {32, 0},     {100, 250},  {101, 250},  {102, 250},  {110, 500},  {111, 500},  {112, 500},
+      {120, 10},   {121, 10},   {122, 10},   {130, 200},  {131, 200},  {132, 200},
   };
 }
 

@@ -1,10 +1,12 @@
 // GRBL 1.1h global settings ($$ / $n=v) for the laser emulator: the values, the "$$" listing in
 // GRBL's order and number formats, and the checks settings.c makes when a value is stored.
 //
-// Defaults are a laser build: laser mode on ($32=1), S max $30=1000, soft limits on ($20=1)
-// with homing off ($22=0, which real GRBL allows only as compiled-in defaults: typing $20=1
-// without $22=1 answers error:10, as here). Machine space is 0..$130 x 0..$131 (mm), as GRBL built
-// with HOMING_FORCE_SET_ORIGIN and homing directions X,Y set ($23=3); Z is -$132..0.
+// Compiled defaults (restore_defaults(), "$RST=$") are GRBL 1.1h's defaults.h DEFAULTS_GENERIC:
+// laser mode off, soft limits and homing off, 200 mm travel, 500 mm/min, 10 mm/s^2. The
+// emulator boots with what the owner of a diode laser stores over them (the constructor):
+// laser mode $32=1, the work area as $130/$131, and the machine's motion ($100/$101=80
+// steps/mm, $110/$111=6000 mm/min, $120/$121=500 mm/s^2). Soft limits stay off unless homing
+// is on: store() refuses $20=1 while $22=0 (error:10), as settings.c does.
 // Units: mm, mm/min (rates), mm/s^2 (accelerations), as GRBL reports them.
 // Pure value type; not thread-safe.
 #pragma once
@@ -16,6 +18,7 @@ namespace atelier::laser_emu {
 
 class Settings {
  public:
+  // The laser owner's EEPROM: compiled defaults plus the values above, work area in mm.
   Settings(double work_w_mm, double work_h_mm);
 
   double get(int id) const;  // 0 for an unknown id
@@ -24,7 +27,7 @@ class Settings {
   // Stores "$<param>=<value>" like settings_store_global_setting(): returns a GRBL status code
   // (0 ok, 3 no such setting, 4 negative value, 6 step pulse < 3 us, 10 soft limits need homing).
   int store(double param, double value);
-  // Back to the emulator's defaults ($RST=$).
+  // Back to GRBL's compiled defaults ($RST=$ and $RST=*): laser mode off, 200 mm travel.
   void restore_defaults();
 
   bool laser_mode() const { return get(32) != 0; }
@@ -38,7 +41,6 @@ class Settings {
   int status_mask() const { return static_cast<int>(get(10)); }
 
  private:
-  double work_w_, work_h_;
   std::map<int, double> values_;
 };
 

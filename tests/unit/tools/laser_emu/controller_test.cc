@@ -24,10 +24,11 @@ TEST(LaserEmuProtocol, BannerAtPowerOnPacedAtTheBaudRate) {
 TEST(LaserEmuProtocol, BuildInfoAndSettings) {
   Rig rig;
   rig.boot();
-  EXPECT_EQ(rig.exchange("$I"), "[VER:1.1h.20190825:]\r\n[OPT:V,15,128]\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("$I"), "[VER:1.1h.20190830:]\r\n[OPT:V,15,128]\r\nok\r\n");
   const std::string settings = rig.exchange("$$");
   EXPECT_EQ(settings.rfind("$0=10\r\n$1=25\r\n", 0), 0u) << settings;
-  for (const char* line : {"$10=1\r\n", "$20=1\r\n", "$22=0\r\n", "$30=1000\r\n", "$31=0\r\n", "$32=1\r\n",
+  // DEFAULTS_GENERIC, but for what a laser owner stores (laser mode, work area, motion).
+  for (const char* line : {"$10=1\r\n", "$20=0\r\n", "$22=0\r\n", "$23=0\r\n", "$27=1.000\r\n", "$132=200.000\r\n", "$30=1000\r\n", "$31=0\r\n", "$32=1\r\n",
                            "$110=6000.000\r\n", "$120=500.000\r\n", "$130=400.000\r\n", "$131=400.000\r\n"})
     EXPECT_NE(settings.find(line), std::string::npos) << line;
   EXPECT_EQ(settings.substr(settings.size() - 4), "ok\r\n");
@@ -78,10 +79,12 @@ TEST(LaserEmuProtocol, CheckModeParsesWithoutMotionAndLeavesWithAReset) {
 }
 
 TEST(LaserEmuProtocol, UnlockAndCheckModeNeedTheRightState) {
-  Rig rig;
+  ControllerOptions o;
+  o.alarm_at_line = 2;  // a hard limit while line 2 runs
+  Rig rig(o);
   rig.boot();
   EXPECT_EQ(rig.exchange("$X"), "ok\r\n");  // no alarm: no effect
-  rig.send("G0 X500\n");                    // outside the 400 mm work area
+  rig.send("G0 X-5\n");
   ASSERT_TRUE(rig.run_until("[MSG:Reset to continue]\r\n"));
   rig.send("\x18");
   ASSERT_TRUE(rig.run_until("[MSG:'$H'|'$X' to unlock]\r\n"));
@@ -91,6 +94,25 @@ TEST(LaserEmuProtocol, UnlockAndCheckModeNeedTheRightState) {
   EXPECT_EQ(rig.exchange("$I").substr(0, 5), "[VER:");  // $ commands work in Alarm
   EXPECT_EQ(rig.exchange("$X"), "[MSG:Caution: Unlocked]\r\nok\r\n");
   EXPECT_EQ(rig.exchange("G0 X1"), "ok\r\n");
+}
+
+TEST(LaserEmuProtocol, SleepStopsEverythingUntilAResetThatComesBackLocked) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("G1 F100 M3 S300"), "ok\r\n");  // M3 in G1 mode: lit at rest
+  EXPECT_GT(rig.ctl.laser_s(), 0.0);
+  EXPECT_EQ(rig.exchange("$SLP"), "ok\r\n");
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "[MSG:Sleeping]\r\n");
+  EXPECT_EQ(rig.ctl.laser_s(), 0.0);  // spindle_set_state(SPINDLE_DISABLE)
+  rig.send("G0 X-5\n?");
+  rig.run(100'000);
+  EXPECT_EQ(rig.take().rfind("<Sleep|MPos:0.000,0.000,0.000|", 0), 0u);  // only "?" is answered
+  rig.send("\x18");
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
+  EXPECT_EQ(rig.ctl.state(), MachineState::alarm);
+  EXPECT_EQ(rig.exchange("$SLPX"), "error:3\r\n");
 }
 
 constexpr double kByteUs = 1e6 * 10 / 115200;  // 86.8 us
@@ -116,7 +138,7 @@ TEST(LaserEmuSerial, BytesArriveAtTheBaudRate) {
   rig.run(static_cast<int64_t>(30 * kByteUs));
   EXPECT_LT(rig.out.size(), 41u);
   rig.run(static_cast<int64_t>(15 * kByteUs));
-  EXPECT_EQ(rig.take(), "[VER:1.1h.20190825:]\r\n[OPT:V,15,128]\r\nok\r\n");
+  EXPECT_EQ(rig.take(), "[VER:1.1h.20190830:]\r\n[OPT:V,15,128]\r\nok\r\n");
 }
 
 TEST(LaserEmuSerial, PlannerFullStopsTheMainLoopAndTheReceiveBufferFills) {
@@ -205,7 +227,9 @@ TEST(LaserEmuSerial, ResetFlushesTheReceiveBufferAndThePlanner) {
   rig.run(5'000);
   rig.send("\x18");
   rig.run(10'000);
-  EXPECT_EQ(rig.take(), "ALARM:3\r\n\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
+  EXPECT_EQ(rig.take(), "ALARM:3\r\n");
+  rig.run(500'000);  // report_alarm_message()'s delay; X5 was waiting for the planner: its ok
+  EXPECT_EQ(rig.take(), "ok\r\n\r\nGrbl 1.1h ['$' for help]\r\n[MSG:'$H'|'$X' to unlock]\r\n");
   EXPECT_EQ(rig.ctl.rx_used(), 0);
   EXPECT_EQ(rig.ctl.planner_blocks(), 0);
 }

@@ -33,7 +33,32 @@ TEST(LaserEmuProtocol, SettingsAreStoredWithGrblsChecks) {
   EXPECT_EQ(rig.exchange("$H"), "error:5\r\n");  // homing disabled
   EXPECT_EQ(rig.exchange("$22=1"), "ok\r\n");
   EXPECT_EQ(rig.exchange("$20=1"), "ok\r\n");
-  EXPECT_EQ(rig.exchange("$H"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$H", 60'000'000), "ok\r\n");
+}
+
+TEST(LaserEmuProtocol, RestoringDefaultsGivesGrblsCompiledDefaults) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("$N0=G21"), "ok\r\n");
+  ASSERT_EQ(rig.exchange("$I=MYLASER"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$RST=#"), "[MSG:Restoring defaults]\r\nok\r\n");  // offsets only
+  ASSERT_TRUE(rig.run_until(">G21:ok\r\n"));
+  rig.take();
+  EXPECT_NE(rig.exchange("$$").find("$32=1\r\n"), std::string::npos);
+  EXPECT_EQ(rig.exchange("$RST=$"), "[MSG:Restoring defaults]\r\nok\r\n");
+  ASSERT_TRUE(rig.run_until(">G21:ok\r\n"));  // startup lines are kept
+  rig.take();
+  const std::string settings = rig.exchange("$$");
+  // defaults.h DEFAULTS_GENERIC: no laser mode, 200 mm travel, 500 mm/min, 10 mm/s^2.
+  for (const char* line : {"$20=0\r\n", "$22=0\r\n", "$32=0\r\n", "$100=250.000\r\n", "$110=500.000\r\n",
+                           "$120=10.000\r\n", "$130=200.000\r\n", "$131=200.000\r\n"})
+    EXPECT_NE(settings.find(line), std::string::npos) << line;
+  EXPECT_EQ(rig.exchange("$I"), "[VER:1.1h.20190830:MYLASER]\r\n[OPT:V,15,128]\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("$RST=*"), "[MSG:Restoring defaults]\r\nok\r\n");
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "\r\nGrbl 1.1h ['$' for help]\r\n");
+  EXPECT_EQ(rig.exchange("$I"), "[VER:1.1h.20190830:]\r\n[OPT:V,15,128]\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("$RST=x"), "error:3\r\n");
 }
 
 // Undefined behaviour UBSan reports through fuzz_laser_emu_gcode
