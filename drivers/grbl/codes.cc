@@ -73,7 +73,7 @@ constexpr std::array<std::string_view, 11> kAlarms = {
 constexpr std::array<std::string_view, 11> kAdvice = {
     "",
     "hard limit: a limit switch was hit, so GRBL stopped the head dead and its position is likely lost; "
-    "check the machine (what hit the switch, is the head free), then home it ($H)",
+    "see what hit the switch, check the machine, then home it ($H)",
     "soft limit: a move would have left the machine's travel ($130/$131), so GRBL stopped before it; the "
     "position was kept, but the job does not fit where it was placed: check the placement (start from) "
     "and the work area, then home the machine ($H) before the next job",

@@ -93,6 +93,7 @@ std::string check_fits(const Bounds& job, StartFrom from, const MachineSpace& s,
   std::string out;
   for (int i = 0; i < 2; ++i) {
     const AxisRange& r = s.axis[i];
+    if (r.max - r.min <= 0) continue;  // $13x unknown (0): nothing to check against
     if (lo[i] >= r.min - kSlackMm && hi[i] <= r.max + kSlackMm) continue;
     const char* axis = i == 0 ? "X" : "Y";
     if (!out.empty()) out += "; ";

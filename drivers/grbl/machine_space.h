@@ -52,7 +52,8 @@ inline constexpr const char* kClearPlacement = "G92.1";
 std::array<double, 2> placement_offset(StartFrom from, const MachineSpace& s, const Status& now,
                                        const std::array<double, 3>& wco);
 
-// "" when the job fits (or soft limits are off, $20=0: GRBL would not check either), else the
+// "" when the job fits (or soft limits are off, $20=0: GRBL would not check either; an axis
+// whose $13x is 0 is not checked), else the
 // reason, naming the axis, the job's range in machine space and the machine's range, e.g.
 // "the job spans X 10.0..120.0 mm in the machine's space but the machine reaches X -400.0..0.0
 // mm (start from origin: work zero is at X 10.0 Y 5.0 in machine space)".

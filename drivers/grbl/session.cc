@@ -180,7 +180,8 @@ MachineInfo Session::connect() {
                        ", nor after a soft reset: check the port, the baud rate (115200) and that the controller "
                        "runs GRBL 1.1");
   }
-  if (info_.version.rfind("1.1", 0) != 0)
+  // Without a banner (a controller at rest) the version comes from $I below.
+  if (!info_.version.empty() && info_.version.rfind("1.1", 0) != 0)
     throw SetupError("the controller runs GRBL " + info_.version + "; atelier needs GRBL 1.1");
 
   // Without [OPT:...,blocks,bytes] (GRBL 1.1 before 1.1d) the 1.1 defaults stand: 15, 128.
@@ -198,6 +199,9 @@ MachineInfo Session::connect() {
       info_.force_set_origin = info_.build_options.find('Z') != std::string::npos;
     }
   }
+  if (info_.version.rfind("1.1", 0) != 0)
+    throw SetupError("the controller runs GRBL " + (info_.version.empty() ? std::string("(no version in $I)") : info_.version) +
+                     "; atelier needs GRBL 1.1");
   // Character counting needs room for the longest line (79 characters and '\n') plus one.
   if (info_.rx_buffer < static_cast<int>(kMaxLineChars) + 2)
     throw SetupError("GRBL reports a receive buffer of " + std::to_string(info_.rx_buffer) +
@@ -286,11 +290,16 @@ void Session::unlock() { command("$X"); }
 bool Session::answers_at_rest() {
   write_byte('?');
   const auto deadline = clock_.now() + t_.reply;
-  while (auto r = next(deadline))
+  while (auto r = next(deadline)) {
+    if (r->kind == Reply::banner) {  // a slow board's own start after all: a known state
+      info_.version = r->text;
+      return true;
+    }
     if (r->kind == Reply::status && parse_status(r->text)) {
       const bool empty = last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks;
       return (last_status_.state == "Idle" && empty) || last_status_.state == "Alarm";
     }
+  }
   return false;
 }
 
@@ -405,18 +414,19 @@ std::vector<std::string> Session::console(const std::string& line) {
   if (line.size() > kMaxLineChars)
     throw std::invalid_argument("a console line holds at most " + std::to_string(kMaxLineChars) + " characters");
   if (line.find_first_of("\r\n") != std::string::npos) throw std::invalid_argument("one console line at a time");
+  // $H is answered when the cycle ends, and GRBL may report nothing meanwhile.
+  const milliseconds quiet = upper.rfind("$H", 0) == 0 ? std::max<milliseconds>(t_.silent, milliseconds(60000)) : t_.silent;
   write_line(line);
   last_rx_ = clock_.now();
   auto last_poll = clock_.now();
   for (;;) {
     const auto now = clock_.now();
-    if (now - last_rx_ >= t_.silent)
-      throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(t_.silent));
+    if (now - last_rx_ >= quiet) throw Silent("GRBL did not answer '" + line + "' within " + seconds_text(quiet));
     if (now - last_poll >= t_.poll) {
       write_byte('?');  // its report is not the operator's: not returned
       last_poll = now;
     }
-    auto l = read_line(std::min(last_poll + t_.poll, now + t_.silent));
+    auto l = read_line(std::min(last_poll + t_.poll, now + quiet));
     if (!l) continue;
     const Reply r = classify(*l);
     if (r.kind != Reply::status) out.push_back(*l);
@@ -535,7 +545,9 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
   // (acknowledged lines still in the planner count as not executed: the status's Bf: fill, or
   // the whole planner when reports carry no Bf:), less the time it has been running.
   size_t running_line = 0;
-  double running_for = 0;  // seconds the machine reported Run while on running_line
+  double running_for = 0;     // seconds the machine reported Run while on running_line
+  bool fresh_status = false;  // a report arrived during this run (the one before is stale)
+  bool done_polled = false;   // a '?' went out after the last ok
   Clock::time_point last_tick = clock_.now();
   const auto report = [&](bool force) {
     const auto now = clock_.now();
@@ -548,10 +560,10 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
     prog.status = last_status_;
     size_t queued = 0;
     if (!check_mode)
-      queued = last_status_.planner_free >= 0
+      queued = fresh_status && last_status_.planner_free >= 0
                    ? static_cast<size_t>(std::max(0, info_.planner_blocks - last_status_.planner_free))
                    : static_cast<size_t>(info_.planner_blocks);
-    if (!check_mode && acked == n && last_status_.state == "Idle") queued = 0;
+    if (!check_mode && acked == n && done_polled && last_status_.state == "Idle") queued = 0;
     const size_t first = acked - std::min(queued, acked);
     if (first != running_line) {
       running_line = first;
@@ -575,7 +587,6 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
     if (s.state == "Hold" && s.substate == 0 && planner_empty) return in_flight.front();
     return std::nullopt;
   };
-  bool done_polled = false;    // a '?' went out after the last ok
   Clock::time_point last_ack = clock_.now();
   Clock::time_point last_poll{};
   last_rx_ = clock_.now();
@@ -656,6 +667,7 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
                                  "); the rest of the job was not run");
       }
       case Reply::status: {
+        fresh_status = true;
         const bool idle_and_empty = last_status_.state == "Idle" &&
             (last_status_.planner_free < 0 || last_status_.planner_free >= info_.planner_blocks);
         // Done once a report requested after the last ok says Idle with an empty planner.

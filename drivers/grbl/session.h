@@ -1,8 +1,14 @@
 // The host side of a GRBL 1.1 session (../shared/protocols/grbl-1.1.md) over a Transport:
-// banner and setup ($I, $$), single commands by send-response, job streaming by character
-// counting (or send-response), check mode, feed hold / resume, and cancel that leaves the
-// beam off with the position kept. Follows GRBL 1.1h's own report.c/protocol.c formats, so
-// it works against real controllers, grbl-sim and tools/laser_emu alike.
+// banner and setup ($I, $$, $# for the work offset), single commands by send-response, job
+// streaming by character counting (or send-response) with a time left that counts down while
+// GRBL runs, check mode, feed hold / resume, cancel that leaves the beam off with the position
+// kept, and the operator's controls (home, jog, work zero here, a console line). Alarms are
+// handled as protocol.c does them: after ALARM:1/2 the reset waits for "[MSG:Reset to
+// continue]" (GRBL drops one sent before), and the $X lock is left to the operator. A
+// controller found at rest is not reset at connect (that would re-run its $N startup lines).
+// Where a job goes on the machine (start from bed/origin/here): machine_space.h.
+// Follows GRBL 1.1h's own report.c/protocol.c formats, so it works against real controllers,
+// grbl-sim and tools/laser_emu alike.
 //
 // Time: timeouts, polls and progress throttling are on the Clock given (real_clock() in the
 // daemon); the transport's reads must wait on the same clock (a SimulatedTransport on a
@@ -122,8 +128,10 @@ class Session {
   explicit Session(Transport& link, Timeouts t = {}, Clock& clock = real_clock());
 
   // Waits for the banner "Grbl 1.1x ['$' for help]"; if none comes within timeouts.banner,
-  // sends a soft reset (0x18) once and waits again (that also stops an old queue still
-  // running from an earlier connection). Then $I and $$. Throws SetupError if there is no
+  // asks '?': a controller at rest (Idle with an empty planner, or Alarm) is used as it is;
+  // otherwise (no answer, a queue still running from an earlier connection, a hold, check
+  // mode) it sends a soft reset (0x18) once and waits again. Then $I, $$ and $# (work
+  // offset). Throws SetupError if there is no
   // banner, the firmware is not GRBL 1.1, or laser mode is off ($32=0). Notes an alarm lock.
   MachineInfo connect();
   const MachineInfo& info() const { return info_; }
@@ -156,7 +164,10 @@ class Session {
 
   // Streams every line and returns once all are acknowledged and the machine is Idle again.
   // error:N: stops sending, feed hold, soft reset (the queued lines must not run), M5, then
-  // GrblError for that line. ALARM:N: soft reset (alarms 1 and 2 wait for one), GrblAlarm.
+  // GrblError for that line. ALARM:N: soft reset (for alarms 1 and 2 once GRBL has printed
+  // "[MSG:Reset to continue]", up to timeouts.stop), GrblAlarm with the oldest unacknowledged
+  // source line. Progress::seconds_left: estimates of the lines not yet executed (the planner's
+  // Bf: fill counted as not executed) less the time the current one has been running.
   // Controls::hold: '!' when it becomes true, '~' when it becomes false (again while GRBL still
   // reports Hold, since it drops a '~' that comes before the hold is complete).
   // Controls::cancel: '!' and the laser override to 10 %, up to 50 ms for Hold:0, then 0x18

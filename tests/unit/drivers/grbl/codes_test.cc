@@ -34,5 +34,19 @@ TEST(GrblCodes, AlarmMeaningsFollowGrblsTable) {
   EXPECT_EQ(alarm_meaning(11), "unknown alarm code");
 }
 
+// What the operator reads after an alarm: what happened and what to do, never "safe to unlock"
+// for a limit alarm (GRBL's csv says so for ALARM:2; unlocking a job that does not fit only
+// moves the problem).
+TEST(GrblCodes, AlarmAdviceSaysWhatToDo) {
+  EXPECT_EQ(alarm_advice(1).rfind("hard limit:", 0), 0u);
+  EXPECT_NE(alarm_advice(1).find("check the machine, then home it ($H)"), std::string::npos);
+  for (int code : {1, 2}) EXPECT_EQ(alarm_advice(code).find("safe"), std::string::npos) << code;
+  EXPECT_NE(alarm_advice(2).find("start from"), std::string::npos);
+  EXPECT_NE(alarm_advice(3).find("home the machine ($H)"), std::string::npos);
+  for (int code = 6; code <= 10; ++code) EXPECT_NE(alarm_advice(code).find("home"), std::string::npos) << code;
+  for (int code = 4; code <= 5; ++code) EXPECT_NE(alarm_advice(code).find("unlock ($X)"), std::string::npos) << code;
+  EXPECT_EQ(alarm_advice(11).rfind("unknown alarm code", 0), 0u);
+}
+
 }  // namespace
 }  // namespace atelier::grbl

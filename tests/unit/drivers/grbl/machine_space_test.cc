@@ -108,6 +108,14 @@ TEST(GrblMachineSpace, AJobBiggerThanTheBedIsRefusedFromTheBed) {
   EXPECT_EQ(check_fits(Bounds{0, 0, 400, 300}, StartFrom::bed, s, info, at(0, 0), {}), "");
 }
 
+TEST(GrblMachineSpace, AnUnknownTravelIsNotChecked) {
+  MachineInfo info = laser(true, 0, false);
+  info.settings[131] = 0;
+  const std::string why = check_fits(Bounds{0, 0, 450, 900}, StartFrom::bed, machine_space(info), info, at(0, 0), {});
+  EXPECT_NE(why.find("spans X"), std::string::npos) << why;
+  EXPECT_EQ(why.find("spans Y"), std::string::npos) << why;
+}
+
 TEST(GrblMachineSpace, SoftLimitsOffMeansNoCheck) {
   const MachineInfo info = laser(true, 0, false, false);
   EXPECT_EQ(check_fits(Bounds{0, 0, 9000, 9000}, StartFrom::bed, machine_space(info), info, at(0, 0), {}), "");

@@ -40,6 +40,7 @@ struct FakeScript {
   int disconnect_at = -1;       // unplug when this G-code line arrives
   bool hold_never_settles = false;         // stays Hold:1 (the host must reset anyway)
   std::chrono::milliseconds motion{3};     // time each G-code motion line takes
+  std::string startup_line;                // $N0: run (">line:ok") after every banner when set
 };
 
 // Plays GRBL 1.1h as the far end of a SimulatedTransport, on the test's FakeClock: real-time
@@ -94,6 +95,7 @@ class FakeGrbl : public SimulatedPeer {
     const bool moving = !held_ && motion_left_ > 0;
     const bool settling = held_ && motion_left_ > 0 && now_ - hold_since_ < 30ms;
     if (moving || settling) return now_ + 1ms;
+    if (critical_ && !reset_heard_) return alarm_since_ + 500ms;
     return std::nullopt;
   }
   bool unplugged() const override { return unplugged_; }
@@ -107,13 +109,29 @@ class FakeGrbl : public SimulatedPeer {
     send("");
     send("Grbl 1.1h ['$' for help]");
     if (alarm_) send("[MSG:'$H'|'$X' to unlock]");
+    else if (!s_.startup_line.empty()) {
+      ++startup_runs_;
+      send(">" + s_.startup_line + ":ok");
+    }
   }
+
+ public:
+  int startup_runs() const { return startup_runs_; }  // times the $N0 line ran
+  int lost_resets() const { return lost_resets_; }    // 0x18 that GRBL's critical loop dropped
+  const std::vector<std::string>& commands() const { return commands_; }  // '$' lines, in order
+
+ private:
 
   // Motion up to `now`, then whatever the freed planner blocks let the parser take.
   void run_until(Clock::time_point now) {
     if (now <= now_) return;
     const double elapsed = std::chrono::duration<double, std::milli>(now - now_).count();
     now_ = now;
+    // report.c: delay_ms(500) after "ALARM:N", then the critical-event message.
+    if (critical_ && !reset_heard_ && now_ - alarm_since_ >= 500ms) {
+      send("[MSG:Reset to continue]");
+      reset_heard_ = true;
+    }
     if (!held_ && motion_left_ > 0) motion_left_ = std::max(0.0, motion_left_ - elapsed);
     parse_lines();
   }
@@ -135,13 +153,20 @@ class FakeGrbl : public SimulatedPeer {
       const bool stopping = s_.hold_never_settles || (motion_left_ > 0 && now_ - hold_since_ < 30ms);
       return stopping ? "Hold:1" : "Hold:0";
     }
-    return motion_left_ > 0 ? "Run" : "Idle";
+    if (motion_left_ > 0) return jog_ ? "Jog" : "Run";
+    return "Idle";
   }
   int blocks() const {
     return static_cast<int>(std::ceil(motion_left_ / static_cast<double>(s_.motion.count())));
   }
 
   void reset() {
+    if (critical_ && !reset_heard_) {  // protocol.c clears EXEC_RESET after the message
+      ++lost_resets_;
+      events_.push_back("reset(lost)");
+      return;
+    }
+    if (critical_) send("ok");  // the struck line's answer comes after the reset
     events_.push_back("reset");
     buffer_.clear();
     partial_.clear();
@@ -160,9 +185,12 @@ class FakeGrbl : public SimulatedPeer {
   void realtime(uint8_t b) {
     switch (b) {
       case '?':
+        if (critical_) break;  // the critical-event loop answers nothing
         ++status_requests_;
+        if (motion_left_ <= 0) jog_ = false;
         send("<" + state() + "|MPos:1.000,2.000,0.000|Bf:" + std::to_string(15 - blocks()) + "," +
-             std::to_string(128 - buffer_.size()) + "|FS:600,300>");
+             std::to_string(128 - buffer_.size()) + "|FS:600,300" + (wco_once_ ? "|WCO:" + g54_ : "") + ">");
+        wco_once_ = false;
         break;
       case '!':
         events_.push_back("!");
@@ -211,7 +239,34 @@ class FakeGrbl : public SimulatedPeer {
       alarm_ = false;
       return send("ok");
     }
+    if (line[0] == '$') commands_.push_back(line);
+    if (line == "$#") {
+      send("[G54:" + g54_ + "]");
+      send("[G92:0.000,0.000,0.000]");
+      send("[TLO:0.000]");
+      return send("ok");
+    }
+    if (line == "$H") {
+      alarm_ = false;
+      wco_once_ = true;
+      return send("ok");
+    }
+    if (line == "$G") {
+      send("[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]");
+      return send("ok");
+    }
+    if (line.rfind("$J=", 0) == 0) {
+      if (alarm_) return send("error:9");
+      jog_ = true;
+      motion_left_ += s_.motion.count();
+      return send("ok");
+    }
     if (line[0] == '$') return send("ok");
+    if (line == "G10L20P1X0Y0") {
+      g54_ = "1.000,2.000,0.000";  // MPos is always 1,2,0 here
+      wco_once_ = true;
+      return send("ok");
+    }
 
     const int g = gcode_++;
     executed_.push_back(line);
@@ -230,8 +285,9 @@ class FakeGrbl : public SimulatedPeer {
       motion_left_ = 0;
       alarm_ = true;
       critical_ = true;  // like hard/soft limits: nothing more until a reset
-      send("ALARM:2");
-      return send("[MSG:Reset to continue]");
+      reset_heard_ = false;
+      alarm_since_ = now_;
+      return send("ALARM:2");  // "[MSG:Reset to continue]" 500 ms later (run_until)
     }
     if (!check_ && line.find('X') != std::string::npos) motion_left_ += s_.motion.count();
     send("ok");
@@ -243,6 +299,11 @@ class FakeGrbl : public SimulatedPeer {
   std::string buffer_, partial_;
   double motion_left_ = 0;  // ms of motion queued
   bool held_ = false, check_ = false, alarm_ = false, critical_ = false, silent_ = false, unplugged_ = false;
+  bool reset_heard_ = false, jog_ = false, wco_once_ = false;
+  Clock::time_point alarm_since_;
+  std::string g54_ = "0.000,0.000,0.000";
+  int startup_runs_ = 0, lost_resets_ = 0;
+  std::vector<std::string> commands_;
   Clock::time_point hold_since_;
   int gcode_ = 0;
   size_t max_buffered_ = 0, max_lines_ = 0;
@@ -324,16 +385,32 @@ TEST(GrblSession, ConnectReadsBuildInfoAndSettings) {
   EXPECT_EQ(index_of(fake.events(), "reset"), fake.events().size());  // the banner came: no reset needed
 }
 
-TEST(GrblSession, ConnectResetsABoardThatPrintedItsBannerBeforeWeOpened) {
+// Issue 20 point 6: a board at rest whose banner went before we opened the port is not reset
+// (a reset would re-run the user's $N startup lines); it answers '?' Idle, which is enough.
+TEST(GrblSession, ConnectDoesNotResetABoardAtRestThatPrintedItsBannerBeforeWeOpened) {
   FakeScript script;
   script.banner_at_start = false;
   Rig rig(script);
   const FakeGrbl& fake = *rig.fake;
   Session& s = rig.s;
   EXPECT_EQ(s.connect().version, "1.1h.20190830");
-  const auto ev = fake.events();
-  ASSERT_FALSE(ev.empty());
-  EXPECT_EQ(ev[0], "reset");
+  EXPECT_EQ(index_of(fake.events(), "reset"), fake.events().size());
+}
+
+TEST(GrblSession, StartupLineRunsOnceAtPowerUpNotOncePerJob) {
+  FakeScript script;
+  script.startup_line = "G21G90";
+  Rig rig(script);
+  const FakeGrbl& fake = *rig.fake;
+  EXPECT_EQ(fake.startup_runs(), 1);  // at power-up
+  for (int job = 0; job < 3; ++job) {
+    Session s(rig.link, fast(), rig.clock);  // the daemon connects anew for every job
+    s.connect();
+    Controls c;
+    s.stream(parse_program(job_text(5), 6000), StreamMode::character_counting, c, {});
+  }
+  EXPECT_EQ(fake.startup_runs(), 1);
+  EXPECT_EQ(index_of(fake.events(), "reset"), fake.events().size());
 }
 
 TEST(GrblSession, ConnectNotesTheAlarmLock) {
@@ -460,10 +537,18 @@ TEST(GrblSession, AlarmFailsTheJobWithItsMeaning) {
     FAIL() << "expected GrblAlarm";
   } catch (const GrblAlarm& e) {
     EXPECT_EQ(e.code, 2);
-    EXPECT_EQ(std::string(e.what()).rfind("ALARM:2 soft limit: G-code motion target exceeds machine travel", 0), 0u)
-        << e.what();
+    // G-code line 10 (0-based: G21G90, then G1 i=0..9) is source line 13.
+    EXPECT_EQ(e.line_number, 13u);
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("ALARM:2 soft limit at line 13 (G1 X9.9 Y63 F600 S9): a move would have left", 0), 0u)
+        << what;
+    EXPECT_EQ(what.find("safely"), std::string::npos) << what;  // a limit alarm is never "safe to unlock"
+    EXPECT_NE(what.find("home the machine ($H)"), std::string::npos) << what;
   }
-  EXPECT_LT(index_of(fake.events(), "reset"), fake.events().size());  // GRBL waits for one after a limit alarm
+  // GRBL drops a reset sent before "[MSG:Reset to continue]" (500 ms after the alarm): the
+  // session waited for it, so its one reset was taken and GRBL restarted.
+  EXPECT_EQ(fake.lost_resets(), 0);
+  EXPECT_LT(index_of(fake.events(), "reset"), fake.events().size());
   EXPECT_TRUE(s.info().alarm_locked);  // left for the operator to unlock
 }
 
@@ -651,6 +736,90 @@ TEST(GrblSession, CommandErrorNamesTheCommand) {
     EXPECT_EQ(e.line_number, 0u);
     EXPECT_STREQ(e.what(), "command 'G0X10': error:9 G-code lock: G-code commands are locked out during alarm or jog state");
   }
+}
+
+// ---- Time left, work offset and operator controls (issue 20) ----
+
+// "45 s left" must not freeze while GRBL runs lines it acknowledged long ago: with three 3 s
+// moves all acknowledged at once (the planner takes them), the reports in between count down.
+TEST(GrblSession, TimeLeftCountsDownWhileGrblRunsAcknowledgedLines) {
+  FakeScript script;
+  script.motion = 3000ms;  // each G1 of 30 mm at 600 mm/min below
+  Rig rig(script);
+  Session& s = rig.s;
+  s.connect();
+  const Program p = parse_program("G21 G90\nG1 X30 F600\nG1 X60\nG1 X90\n", 6000);
+  ASSERT_NEAR(p.total_seconds(), 9.0, 0.01);
+  std::vector<std::pair<size_t, double>> seen;  // (acked, seconds_left) per report
+  Controls c;
+  s.stream(p, StreamMode::character_counting, c, [&](const Progress& pr) { seen.emplace_back(pr.acked, pr.seconds_left); });
+  ASSERT_GT(seen.size(), 20u);
+  int falls_with_all_acked = 0;
+  for (size_t i = 1; i < seen.size(); ++i) {
+    EXPECT_LE(seen[i].second, seen[i - 1].second + 1e-9) << "report " << i;  // never goes up
+    if (seen[i].first == 4 && seen[i - 1].first == 4 && seen[i].second < seen[i - 1].second) ++falls_with_all_acked;
+  }
+  EXPECT_GE(falls_with_all_acked, 20);  // about every 200 ms poll over 9 s, not at 3 block ends only
+  EXPECT_DOUBLE_EQ(seen.back().second, 0.0);
+}
+
+TEST(GrblSession, ConnectReadsTheWorkOffsetAndSetOriginHereMovesIt) {
+  Rig rig;
+  Session& s = rig.s;
+  s.connect();
+  EXPECT_NE(index_of(rig.fake->commands(), "$#"), rig.fake->commands().size());
+  EXPECT_EQ(s.work_offset(), (std::array<double, 3>{0, 0, 0}));
+  s.set_origin_here();  // the head is at machine (1, 2, 0)
+  EXPECT_EQ(s.work_offset(), (std::array<double, 3>{1, 2, 0}));
+}
+
+TEST(GrblSession, HomeUnlocksAndJogWaitsForTheMoveToEnd) {
+  FakeScript script;
+  script.start_in_alarm = true;
+  script.motion = 400ms;
+  Rig rig(script);
+  Session& s = rig.s;
+  EXPECT_TRUE(s.connect().alarm_locked);
+  s.home();
+  EXPECT_FALSE(s.info().alarm_locked);
+  const auto before = rig.clock.now();
+  s.jog(10, -5, 1500);
+  EXPECT_GE(rig.clock.now() - before, 400ms);  // returned only once the jog was over
+  EXPECT_EQ(s.last_status().state, "Idle");
+  EXPECT_NE(index_of(rig.fake->commands(), "$J=G91G21X10.000Y-5.000F1500"), rig.fake->commands().size());
+}
+
+TEST(GrblSession, JogWhileLockedIsRefusedWithTheGrblError) {
+  FakeScript script;
+  script.start_in_alarm = true;
+  Rig rig(script);
+  rig.s.connect();
+  try {
+    rig.s.jog(1, 0, 600);
+    FAIL() << "expected GrblError";
+  } catch (const GrblError& e) {
+    EXPECT_EQ(e.code, 9);
+  }
+}
+
+TEST(GrblSession, ConsoleReturnsEveryLineUpToTheAnswerAndErrorsAreNotThrown) {
+  Rig rig;
+  Session& s = rig.s;
+  s.connect();
+  EXPECT_EQ(s.console("$G"), (std::vector<std::string>{"[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]", "ok"}));
+  const auto status = s.console("?");
+  ASSERT_EQ(status.size(), 1u);
+  EXPECT_EQ(status[0].rfind("<Idle|MPos:1.000,2.000,0.000", 0), 0u);
+  EXPECT_THROW(s.console("$RST=*"), std::invalid_argument);
+  EXPECT_EQ(index_of(rig.fake->commands(), "$RST=*"), rig.fake->commands().size());  // never sent
+}
+
+TEST(GrblSession, ConsoleErrorIsTheLastLine) {
+  FakeScript script;
+  script.error_at = 0;
+  Rig rig(script);
+  rig.s.connect();
+  EXPECT_EQ(rig.s.console("G1X1"), std::vector<std::string>{"error:33"});
 }
 
 // ---- Program pauses (M0) ----
