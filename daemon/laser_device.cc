@@ -279,7 +279,7 @@ void LaserDevice::hold(int64_t job_id) {
   const std::string what = held_text(job_id, acked, total);
   set_detail(job_tag(job_id) + ": " + what);
   try {
-    jobs_.progress(job_id, static_cast<int64_t>(acked), static_cast<int64_t>(total), what);
+    jobs_.progress_reason(job_id, static_cast<int64_t>(acked), static_cast<int64_t>(total), what);
   } catch (const std::exception& e) {
     log::warning(std::string("hold not recorded: ") + e.what(), job_fields(jobs_.store(), job_id, config_.name));
   }
@@ -533,6 +533,8 @@ void LaserDevice::run_job(int64_t id) {
   const auto started = clock_.now();
   auto last_report = started - std::chrono::seconds(1);
   std::string pause_note;  // the program pause (M0) reported last, "" when running
+  bool shown_held = false;  // the job's reason says it is held
+  std::string running_reason = "running on " + config_.name;
   auto on_progress = [&](const grbl::Progress& p) {
     acked = p.acked;
     {
@@ -563,8 +565,11 @@ void LaserDevice::run_job(int64_t id) {
     // The store is written at most 5 times a second; the last line always.
     if (p.acked != p.total && now - last_report < std::chrono::milliseconds(200)) return;
     last_report = now;
-    // While held, every view says so (not a time left that does not run down).
+    // While held, every view says so (not a time left that does not run down); once resumed
+    // the job's reason is its running one again.
     const bool held = controls.hold.load();
+    const bool reason_changes = held || shown_held;
+    shown_held = held;
     const std::string what = held ? held_text(id, p.acked, p.total)
                                   : line_count(p.acked, p.total) + ", " + duration_text(p.seconds_left) + " left";
     {
@@ -573,7 +578,11 @@ void LaserDevice::run_job(int64_t id) {
     }
     set_detail(job_tag(id) + ": " + what);
     try {
-      jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
+      if (reason_changes)
+        jobs_.progress_reason(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total),
+                              held ? what : running_reason);
+      else
+        jobs_.progress(id, static_cast<int64_t>(p.acked), static_cast<int64_t>(p.total), what);
     } catch (const std::exception& e) {
       // A store hiccup (full disk) must not stop a burn half-way: the next report retries.
       log::warning(std::string("progress not recorded: ") + e.what(), job_fields(jobs_.store(), id, config_.name));
@@ -598,6 +607,8 @@ void LaserDevice::run_job(int64_t id) {
     placed = place_job(session, c.info, program.bounds ? &*program.bounds : nullptr, placement.from,
                        gcode_file_for(jobs_.store().get(id)->kind));
     jobs_.note(id, placed);  // the history says where the job was placed
+    running_reason = "running on " + config_.name + " (" + placed + ")";
+    jobs_.progress_reason(id, 0, static_cast<int64_t>(total), running_reason);
     if (placement.check_first) {
       set_detail(job_tag(id) + ": dry run in check mode");
       try {
