@@ -148,6 +148,13 @@ Daemon::Daemon(fs::path config_file, Config initial)
     if (d.driver == kGrblDriver) {
       LaserOptions options;
       options.check_first = c.laser_check_first;
+      // [laser] start_from (checked by the laser kinds' reader): the device's default placement.
+      for (const auto& [kind, table] : c.kind_defaults) {
+        const KindInfo* k = find_kind(kind);
+        if (!k || k->machine_input != MachineInput::gcode) continue;
+        if (auto from = table["laser"]["start_from"].value<std::string>())
+          if (auto parsed = grbl::parse_start_from(*from)) options.start_from = *parsed;
+      }
       options.mode = d.streaming == "send-response" ? grbl::StreamMode::send_response
                                                     : grbl::StreamMode::character_counting;
       devices_.push_back(std::make_unique<LaserDevice>(d, *jobs_, opener, resolve, options));
@@ -374,8 +381,16 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
             throw ControlError("start needs \"start_needle\" as a string (\"L20\", \"R5\" or \"30\")");
           options.start_needle = args["start_needle"].get<std::string>();
         }
+        if (args.contains("start_from")) {
+          if (!args["start_from"].is_string())
+            throw ControlError("start needs \"start_from\" as a string (\"bed\", \"origin\" or \"here\")");
+          if (device.config().driver != kGrblDriver)
+            throw ControlError("job " + tag + ": " + name + " is not a laser; --start-from places laser jobs");
+          options.start_from = args["start_from"].get<std::string>();
+        }
         device.start(id, options);
         effect = "armed (runs on " + name + " as soon as it is free)";
+        if (options.start_from) effect += ", started from " + *options.start_from;
         if (options.from_row) effect += ", from row " + std::to_string(*options.from_row);
         if (options.start_needle) effect += ", leftmost stitch on needle " + *options.start_needle;
       } else if (verb == "hold") {
@@ -405,8 +420,76 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
     return after_command(before, settles, effect);
   }
   if (verb == "devices") return devices_json();
+  if (verb == "laser") return laser(request);
   if (verb == "wood") return wood(request);
   throw ControlError("unknown verb '" + verb + "'");
+}
+
+Device& Daemon::laser_device(const nlohmann::json& args) {
+  std::vector<Device*> lasers;
+  for (const auto& d : devices_)
+    if (d->config().driver == kGrblDriver) lasers.push_back(d.get());
+  std::string names;
+  for (Device* d : lasers) names += (names.empty() ? "" : ", ") + d->config().name;
+  if (args.contains("device")) {
+    if (!args["device"].is_string()) throw ControlError("laser needs \"device\" as a string (a [[device]] name)");
+    const std::string want = args["device"].get<std::string>();
+    for (Device* d : lasers)
+      if (d->config().name == want) return *d;
+    throw ControlError("no laser device '" + shortened(want) + "'" +
+                       (names.empty() ? std::string("; atelierd.toml has none") : "; lasers: " + names));
+  }
+  if (lasers.empty()) throw ControlError("atelierd.toml has no laser device ([[device]] with driver = \"grbl\")");
+  if (lasers.size() > 1) throw ControlError("several laser devices (" + names + "): say which with --device NAME");
+  return *lasers.front();
+}
+
+nlohmann::json Daemon::laser(ControlRequest& request) {
+  const nlohmann::json& args = request.args;
+  const std::string action = args.value("action", "");
+  auto number = [&](const char* key, double fallback) {
+    if (!args.contains(key)) return fallback;
+    if (!args[key].is_number()) throw ControlError(std::string("laser ") + action + " needs \"" + key + "\" as a number");
+    return args[key].get<double>();
+  };
+  if (action == "log") {
+    int64_t limit = 20;
+    if (args.contains("limit")) {
+      if (!args["limit"].is_number_integer() || args["limit"].get<int64_t>() < 1)
+        throw ControlError("laser log needs a \"limit\" that is an integer >= 1");
+      limit = args["limit"].get<int64_t>();
+    }
+    const std::string device = args.contains("device") ? laser_device(args).config().name : "";
+    nlohmann::json lines = nlohmann::json::array();
+    for (const ConsoleLine& l : store_->console_lines(device, limit))
+      lines.push_back({{"at", iso8601_utc(l.at_ms)}, {"device", l.device}, {"uid", l.uid}, {"line", l.line}, {"reply", l.reply}});
+    return {{"lines", lines}};
+  }
+  MachineCommand cmd;
+  cmd.uid = static_cast<int64_t>(request.peer.uid);
+  if (action == "unlock") cmd.op = MachineCommand::Op::unlock;
+  else if (action == "home") cmd.op = MachineCommand::Op::home;
+  else if (action == "origin") cmd.op = MachineCommand::Op::origin;
+  else if (action == "jog") {
+    cmd.op = MachineCommand::Op::jog;
+    cmd.dx_mm = number("x", 0);
+    cmd.dy_mm = number("y", 0);
+    cmd.feed_mm_min = number("feed", 0);
+    if (cmd.dx_mm == 0 && cmd.dy_mm == 0) throw ControlError("laser jog needs a distance: \"x\" and/or \"y\" in mm");
+  } else if (action == "send") {
+    cmd.op = MachineCommand::Op::send;
+    if (!args.contains("line") || !args["line"].is_string())
+      throw ControlError("laser send needs the \"line\" to send, as a string");
+    cmd.line = args["line"].get<std::string>();
+  } else {
+    throw ControlError("laser needs an \"action\": unlock, home, jog, origin, send or log");
+  }
+  Device& device = laser_device(args);
+  try {
+    return device.machine_command(cmd);
+  } catch (const std::runtime_error& e) {
+    throw ControlError(e.what());
+  }
 }
 
 nlohmann::json Daemon::wood(ControlRequest& request) {

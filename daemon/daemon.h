@@ -46,6 +46,10 @@ class Daemon {
   // Refuses bad --set values with the checker child's reason (ControlError).
   void check_sets(const std::string& kind, const std::vector<std::string>& sets);
   nlohmann::json wood(ControlRequest& request);  // the `wood` verb (wood_service.h)
+  // The `laser` verb: operator commands to a laser's controller, and its console log.
+  nlohmann::json laser(ControlRequest& request);
+  // The laser device `args["device"]` names, or the only one. Throws ControlError.
+  Device& laser_device(const nlohmann::json& args);
   nlohmann::json devices_json() const;
   Device* device_for(const Job& job) const;
   Device& device_of_job(int64_t id);

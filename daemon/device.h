@@ -17,12 +17,23 @@ namespace atelier {
 
 struct Job;
 
-// What `atelierctl start ID --from-row N --start-needle K` asks of a knitting machine; they
-// override the job's sidecar keys (convert/common/job_start.h). Empty for a plain start.
+// What `atelierctl start ID --from-row N --start-needle K` asks of a knitting machine, or
+// `--start-from bed|origin|here` of a laser; they override the job's sidecar keys
+// (convert/common/job_start.h). Empty for a plain start.
 struct StartOptions {
   std::optional<int> from_row;              // 1-based row in knitting order
   std::optional<std::string> start_needle;  // as typed: "L20", "R5" or "20" (job_start.h)
-  bool empty() const { return !from_row && !start_needle; }
+  std::optional<std::string> start_from;    // laser placement as typed: "bed", "origin", "here"
+  bool empty() const { return !from_row && !start_needle && !start_from; }
+};
+
+// An operator's command to a laser's controller outside any job (`atelierctl laser ...`).
+struct MachineCommand {
+  enum class Op { unlock, home, jog, origin, send } op = Op::send;
+  double dx_mm = 0, dy_mm = 0;  // jog: relative move, mm
+  double feed_mm_min = 0;       // jog: mm/min; 0 = the device's frame feed
+  std::string line;             // send: one line for the controller, without newline
+  int64_t uid = -1;             // the client who asked (console log)
 };
 
 class Device {
@@ -58,6 +69,15 @@ class Device {
   virtual void frame(int64_t job_id) {
     throw BadInput("job " + std::to_string(job_id) + ": " + config().name +
                              " is not a laser; framing traces a laser job's outline");
+  }
+  // Laser: runs `cmd` on the controller (on the worker thread, which owns the port) and waits
+  // for it: {"device", "lines": [{"sent", "reply": [..]}], "effect"}. Every line sent is logged
+  // in the store's console log. Throws std::runtime_error (BadInput) naming the problem: not a
+  // laser, offline, a job running or held, a line with real-time bytes or several lines, a jog
+  // leaving the work area, or the controller's own error.
+  virtual nlohmann::json machine_command(const MachineCommand& cmd) {
+    (void)cmd;
+    throw BadInput(config().name + " is not a laser; only a laser's controller takes operator commands");
   }
   // Stops the worker (a running job is left interrupted, never restarted on its own).
   virtual void stop() = 0;

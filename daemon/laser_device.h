@@ -1,5 +1,12 @@
-// A laser cutter behind GRBL 1.1 (drivers/grbl/): runs the G-code of `ready` cut, parquetry
-// and sketch jobs.
+// A laser cutter behind GRBL 1.1 (drivers/grbl/): runs the G-code of `ready` laser jobs (kinds
+// whose machine input is G-code, convert/kinds.h), and the operator's commands outside jobs
+// (`atelierctl laser unlock|home|jog|origin|send`), on its worker thread, which alone opens the
+// port. Every line such a command sends is logged with its reply in the store's console log.
+//
+// Placement (contract B, drivers/grbl/machine_space.h): a job's G-code is in bed coordinates;
+// its sidecar's `[laser] start_from` or `atelierctl start ID --start-from` (bed | origin | here)
+// says where its (0,0) lands. The job is checked against the machine's space before anything
+// is sent, the placement lines (G92 ...) go first and G92.1 after; the history records it.
 //
 // Safety first: a laser job only starts when an operator says so (`atelierctl start ID`),
 // unless the device has autostart = true; it is never resumed or restarted on its own, after a
@@ -19,7 +26,13 @@
 #include <memory>
 #include <optional>
 
+#include <future>
+#include <map>
+
+#include <vector>
+
 #include "daemon/device_worker.h"
+#include "drivers/grbl/machine_space.h"
 #include "drivers/grbl/session.h"
 #include "drivers/transport.h"
 
@@ -27,6 +40,7 @@ namespace atelier {
 
 struct LaserOptions {
   bool check_first = false;                 // [laser] check_first: dry run in GRBL check mode
+  grbl::StartFrom start_from = grbl::StartFrom::bed;  // [laser] start_from: where jobs' (0,0) lands
   grbl::StreamMode mode = grbl::StreamMode::character_counting;
   double frame_feed_mm_min = 3000;          // speed of the beam-off outline trace
   grbl::Timeouts timeouts;
@@ -46,6 +60,10 @@ class LaserDevice : public DeviceWorker {
   // releases a feed hold on it.
   void resume(int64_t job_id, int from_row) override;
   void hold(int64_t job_id) override;
+  // Keeps `--start-from` for the job (checked here: BadInput for other options or values).
+  void accept_start(const Job& job, const StartOptions& options) override;
+  // Queues `cmd` for the worker and waits for it (see Device::machine_command).
+  nlohmann::json machine_command(const MachineCommand& cmd) override;
   // Queues a beam-off trace of a ready job's bounds; the worker runs it when idle. Throws if
   // the job is not a ready job of this device or the laser is busy.
   void frame(int64_t job_id) override;
@@ -61,6 +79,22 @@ class LaserDevice : public DeviceWorker {
   void abort_running() override;
   void forget_requests() override;
   void run_job(int64_t id);
+  // "held at line 27 of 115 (feed hold, beam off); `atelierctl resume ID` continues"
+  static std::string held_text(int64_t job_id, size_t acked, size_t total);
+  // The job's start keys (sidecar [laser] and `--start-from`) with the device's defaults.
+  struct JobPlacement {
+    grbl::StartFrom from = grbl::StartFrom::bed;
+    bool check_first = false;
+  };
+  JobPlacement placement_for(int64_t id);
+  // Checks the job against the machine's space for `from` and sends the placement lines;
+  // returns what was done, for the history ("start from bed: G92X400Y300"). Throws SetupError
+  // (nothing sent) when the job does not fit.
+  std::string place_job(grbl::Session& session, const grbl::MachineInfo& info, const grbl::Bounds* bounds,
+                        grbl::StartFrom from, const std::string& file);
+  // A queued operator command and the promise of its answer.
+  struct MachineRequest;
+  void run_machine_command(MachineRequest& req);
   // How a job that threw `e` ends and why, in the operator's words; `at` is "at line N of M",
   // `beam_may_fire` whether the real run had started sending. A lost link also marks the
   // device offline.
@@ -87,6 +121,10 @@ class LaserDevice : public DeviceWorker {
   // Guarded by mu_ (DeviceWorker's).
   std::shared_ptr<grbl::Controls> controls_;  // of the job or frame on the machine
   std::optional<int64_t> frame_request_;
+  std::shared_ptr<MachineRequest> machine_request_;  // queued or being run; one at a time
+  std::map<int64_t, grbl::StartFrom> start_from_;    // `--start-from` of armed jobs
+  std::vector<int> source_lines_;  // the running job's Program::source_line (worker thread only)
+  size_t acked_ = 0, total_ = 0;  // the running job's lines acknowledged / in it (for hold)
   bool framing_ = false;  // the job on the machine is being framed, not run
   bool paused_ = false;   // the job on the machine waits at a program pause (M0)
   double seconds_left_ = -1;  // the running job's estimate at its last progress report; -1: none yet

@@ -506,4 +506,28 @@ void Store::forget_purged_folder(int64_t job_id) {
   Stmt(db_, "DELETE FROM purged_folders WHERE job_id = ?1").bind(1, job_id).run();
 }
 
+int64_t Store::add_console_line(const ConsoleLine& l) {
+  std::lock_guard lock(mu_);
+  Stmt(db_, "INSERT INTO console_log (at_ms, device, uid, line, reply) VALUES (?1, ?2, ?3, ?4, ?5)")
+      .bind(1, l.at_ms ? l.at_ms : now_ms())
+      .bind(2, l.device)
+      .bind(3, l.uid)
+      .bind(4, l.line)
+      .bind(5, l.reply)
+      .run();
+  return sqlite3_last_insert_rowid(db_);
+}
+
+std::vector<ConsoleLine> Store::console_lines(const std::string& device, int64_t limit) {
+  std::lock_guard lock(mu_);
+  // Newest `limit` by id, then turned oldest first as a terminal shows them.
+  Stmt s(db_, "SELECT id, at_ms, device, uid, line, reply FROM console_log "
+              "WHERE (?1 = '' OR device = ?1) ORDER BY id DESC LIMIT ?2");
+  s.bind(1, device).bind(2, limit);
+  std::vector<ConsoleLine> out;
+  while (s.step()) out.push_back({s.integer(0), s.integer(1), s.text(2), s.integer(3), s.text(4), s.text(5)});
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace atelier

@@ -76,6 +76,16 @@ struct PurgedFolder {
   std::string path;  // as recorded in the job's output_dir
 };
 
+// One line an operator's laser command sent to a controller (`atelierctl laser ...`).
+struct ConsoleLine {
+  int64_t id = 0;
+  int64_t at_ms = 0;
+  std::string device;  // [[device]] name
+  int64_t uid = -1;    // the client's uid (-1: unknown)
+  std::string line;    // as sent, without its newline
+  std::string reply;   // the controller's reply lines, "\n"-joined (up to its ok/error:N)
+};
+
 struct JobFilter {
   std::optional<JobState> state;
   std::optional<std::string> kind;
@@ -133,6 +143,11 @@ class Store {
   // The folders purge() recorded and forget_purged_folder() has not yet dropped, by job id.
   std::vector<PurgedFolder> purged_folders();
   void forget_purged_folder(int64_t job_id);
+
+  // The laser console log (schema v4). Returns the new row's id.
+  int64_t add_console_line(const ConsoleLine& line);
+  // The last `limit` lines (of `device`, or of every device when empty), oldest first.
+  std::vector<ConsoleLine> console_lines(const std::string& device, int64_t limit);
 
  private:
   void exec(const char* sql);

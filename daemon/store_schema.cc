@@ -56,6 +56,21 @@ CREATE TABLE purged_folders (
 );
 )sql";
 
+// Version 4: the laser console (`atelierctl laser send|unlock|home|jog|origin`): every line an
+// operator's command sent to a controller and the controller's reply lines, newest last, for
+// `atelierctl laser log`. Kept apart from jobs: retention does not purge it.
+constexpr const char* kV4 = R"sql(
+CREATE TABLE console_log (
+  id     INTEGER PRIMARY KEY,
+  at_ms  INTEGER NOT NULL,
+  device TEXT    NOT NULL,
+  uid    INTEGER NOT NULL,
+  line   TEXT    NOT NULL,
+  reply  TEXT    NOT NULL DEFAULT ''
+);
+CREATE INDEX console_log_by_device ON console_log(device, id);
+)sql";
+
 }  // namespace
 
 const std::vector<SchemaMigration>& schema_migrations() {
@@ -63,6 +78,7 @@ const std::vector<SchemaMigration>& schema_migrations() {
       {1, "jobs, events and id_sequence tables", kV1},
       {2, "indexes on jobs(state) and jobs(kind)", kV2},
       {3, "purged_folders: output folders of purged jobs still to remove", kV3},
+      {4, "console_log: lines operators sent to controllers and their replies", kV4},
   };
   return steps;
 }

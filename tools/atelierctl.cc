@@ -254,6 +254,13 @@ int main(int argc, char** argv) {
                     "knitting: needle of the pattern's leftmost stitch: L20, R5 (the bed's markings) or 30 "
                     "(counted from the left end)")
       ->type_name("NEEDLE");
+  std::string start_from;
+  start->add_option("--start-from", start_from,
+                    "laser: where the job's (0,0) lands: bed (the bed's front-left corner), origin (the work "
+                    "zero of `laser origin`) or here (the head's position); default: the job's [laser] start_from, "
+                    "else bed")
+      ->check(CLI::IsMember({"bed", "origin", "here"}))
+      ->type_name("PLACE");
   auto* cancel = app.add_subcommand("cancel", "cancel a job, or with --all every unfinished job");
   auto* cancel_id = cancel->add_option("ID", id, "job id")->check(integer_at_least(1));
   cancel->add_flag("--all", all, "every queued, converting, ready and running job")->excludes(cancel_id);
@@ -296,6 +303,33 @@ int main(int argc, char** argv) {
   wood_reset->add_option("--job", wood_job, "only the pieces of this job")->check(integer_at_least(1));
   add_json(wood_reset);
 
+  auto* laser = app.add_subcommand("laser", "a laser's controller between jobs: unlock, home, jog, origin, console");
+  laser->require_subcommand(1);
+  std::string laser_device, laser_line;
+  double jog_x = 0, jog_y = 0, jog_feed = 0;
+  std::int64_t log_lines = 20;
+  auto add_device = [&](CLI::App* sub) {
+    sub->add_option("--device", laser_device, "the laser device ([[device]] name) when there are several")
+        ->type_name("NAME");
+  };
+  auto* laser_unlock = laser->add_subcommand("unlock", "lift an alarm lock ($X), e.g. after a cancel in motion");
+  auto* laser_home = laser->add_subcommand("home", "run the homing cycle ($H)");
+  auto* laser_jog = laser->add_subcommand("jog", "move the head by a distance, beam off ($J=)");
+  laser_jog->add_option("--x", jog_x, "mm along X (right is positive)")->type_name("MM");
+  laser_jog->add_option("--y", jog_y, "mm along Y (towards the rear is positive)")->type_name("MM");
+  laser_jog->add_option("--feed", jog_feed, "mm/min (default: the device's frame feed)")
+      ->type_name("MM_MIN")
+      ->check(CLI::PositiveNumber);
+  auto* laser_origin = laser->add_subcommand("origin", "set work zero at the head (G10 L20 P1 X0 Y0)");
+  auto* laser_send = laser->add_subcommand("send", "send one line to the controller and print its replies");
+  laser_send->add_option("LINE", laser_line, "G-code or a $ command, one line")->required();
+  auto* laser_log = laser->add_subcommand("log", "the last lines operators sent and the replies");
+  laser_log->add_option("--lines", log_lines, "how many (default 20)")->type_name("N")->check(integer_at_least(1));
+  for (CLI::App* sub : {laser_unlock, laser_home, laser_jog, laser_origin, laser_send, laser_log}) {
+    add_device(sub);
+    add_json(sub);
+  }
+
   // CLI11 calls an unknown verb an unexpected argument: name it as what it is.
   if (const std::string verb = verb_word(argc, argv); !verb.empty()) {
     std::string verbs;
@@ -313,6 +347,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     if (cancel->parsed() && id == 0 && !all) throw CLI::ValidationError("cancel", "needs a job ID or --all");
+    if (laser_jog->parsed() && jog_x == 0 && jog_y == 0)
+      throw CLI::ValidationError("laser jog", "needs a distance: --x MM and/or --y MM");
   } catch (const CLI::ParseError& e) {
     int rc = app.exit(e);  // prints help (rc 0) or the error with a usage hint
     return rc == 0 ? kExitOk : kExitUsage;
@@ -351,11 +387,30 @@ int main(int argc, char** argv) {
       json verb_args = {{"id", id}};
       if (start->parsed() && start_row > 0) verb_args["from_row"] = start_row;
       if (start->parsed() && !start_needle.empty()) verb_args["start_needle"] = start_needle;
+      if (start->parsed() && !start_from.empty()) verb_args["start_from"] = start_from;
       cmd = Command{verb, verb_args, false, render_job_or_value};
     } else if (resume->parsed()) {
       json resume_args = {{"id", id}};
       if (from_row > 0) resume_args["from_row"] = from_row;
       cmd = Command{"resume", resume_args, false, render_job_or_value};
+    } else if (laser->parsed()) {
+      cmd.verb = "laser";
+      cmd.render = atelier::ctl::format_laser;
+      const std::string action = laser_unlock->parsed() ? "unlock"
+                                 : laser_home->parsed() ? "home"
+                                 : laser_jog->parsed()  ? "jog"
+                                 : laser_origin->parsed() ? "origin"
+                                 : laser_send->parsed()   ? "send"
+                                                          : "log";
+      cmd.args = {{"action", action}};
+      if (!laser_device.empty()) cmd.args["device"] = laser_device;
+      if (laser_jog->parsed()) {
+        cmd.args["x"] = jog_x;
+        cmd.args["y"] = jog_y;
+        if (jog_feed > 0) cmd.args["feed"] = jog_feed;
+      }
+      if (laser_send->parsed()) cmd.args["line"] = laser_line;
+      if (laser_log->parsed()) cmd.args["limit"] = log_lines;
     } else if (devices->parsed()) {
       cmd.verb = "devices";
       cmd.render = atelier::ctl::format_devices;
@@ -419,7 +474,9 @@ int main(int argc, char** argv) {
         return kExitUsage;
       }
     }
-    json response = client.request(cmd.verb, cmd.args, ControlClient::kDefaultTimeout, open_files);
+    // Homing takes up to a minute on the machine, after the controller's setup.
+    const auto timeout = laser->parsed() ? std::chrono::milliseconds(200000) : ControlClient::kDefaultTimeout;
+    json response = client.request(cmd.verb, cmd.args, timeout, open_files);
     if (!response_ok(response)) return print_failure(response);
     json result = response.contains("result") ? response["result"] : json();
     result = settled(client, result);

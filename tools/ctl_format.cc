@@ -442,4 +442,37 @@ std::string format_wood(const json& result) {
   return out + table({{"ID"}, {"SIZE_MM"}, {"DPI"}, {"USED"}, {"FREE_MM2"}, {"PIECES"}, {"JOBS"}}, rows);
 }
 
+std::string format_laser(const nlohmann::json& result) {
+  std::string out;
+  auto reply_lines = [&out](const std::string& reply) {
+    size_t from = 0;
+    while (from <= reply.size() && !reply.empty()) {
+      const size_t end = reply.find('\n', from);
+      out += "  " + reply.substr(from, end == std::string::npos ? std::string::npos : end - from) + "\n";
+      if (end == std::string::npos) break;
+      from = end + 1;
+    }
+  };
+  const nlohmann::json lines = result.is_object() ? result.value("lines", nlohmann::json::array()) : nlohmann::json();
+  if (result.is_object() && result.contains("effect")) {
+    for (const auto& l : lines) {
+      if (!l.is_object()) continue;
+      out += "> " + text(l, "sent") + "\n";
+      for (const auto& r : l.value("reply", nlohmann::json::array()))
+        if (r.is_string()) out += "  " + r.get<std::string>() + "\n";
+    }
+    out += text(result, "device") + ": " + text(result, "effect") + "\n";
+    return out;
+  }
+  if (!lines.is_array() || lines.empty()) return "no console lines\n";
+  for (const auto& l : lines) {
+    if (!l.is_object()) continue;
+    const std::string at = l.contains("at") ? local_time(text(l, "at")) : "";
+    const std::string uid = l.contains("uid") ? l["uid"].dump() : "?";
+    out += at + "  " + text(l, "device") + "  uid " + uid + "> " + text(l, "line") + "\n";
+    reply_lines(text(l, "reply"));
+  }
+  return out;
+}
+
 }  // namespace atelier::ctl

@@ -49,6 +49,10 @@ std::string format_cancel_all(const nlohmann::json& result);
 // `wood`: what was done (if anything), then the sheets as an aligned table ID SIZE_MM DPI
 // USED FREE_MM2 PIECES JOBS, or "no veneer sheets".
 std::string format_wood(const nlohmann::json& result);
+// `laser unlock|home|jog|origin|send`: each line sent as "> LINE" and the controller's replies
+// under it, then what was done; `laser log` ({"lines": [...]}): "TIME DEVICE uid N> LINE" and
+// the replies indented, oldest first, or "no console lines".
+std::string format_laser(const nlohmann::json& result);
 // Anything else (frame): strings as is, arrays of objects as a table, objects as
 // key: value lines, other values as JSON.
 std::string format_value(const nlohmann::json& value);

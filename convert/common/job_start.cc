@@ -67,4 +67,27 @@ JobStart take_job_start(toml::table& layer, const std::string& source) {
   return out;
 }
 
+LaserJobStart take_laser_job_start(toml::table& layer, const std::string& source) {
+  LaserJobStart out;
+  toml::table* laser = layer["laser"].as_table();
+  if (!laser) return out;
+  auto bad = [&](const char* key, const std::string& problem) {
+    throw ParamError(where(*laser->get(key), source) + "key 'laser." + key + "': " + problem);
+  };
+  if (const toml::node* n = laser->get("check_first")) {
+    if (!n->is_boolean()) bad("check_first", "expected true or false");
+    out.check_first = n->value<bool>();
+  }
+  if (const toml::node* n = laser->get("start_from")) {
+    const auto v = n->value_exact<std::string>();
+    if (!v || (*v != "bed" && *v != "origin" && *v != "here"))
+      bad("start_from", "expected \"bed\" (the bed's front-left corner), \"origin\" (the work zero set "
+                        "with `atelierctl laser origin`) or \"here\" (the head's position at start)");
+    out.start_from = *v;
+  }
+  laser->erase("check_first");
+  laser->erase("start_from");
+  return out;
+}
+
 }  // namespace atelier

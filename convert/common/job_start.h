@@ -5,6 +5,12 @@
 // machine's, not the conversion's: atelier-convert takes them out of a job layer before the
 // kind's strict reader sees it, and atelierd reads them again when the job is started.
 //
+// A laser job's sidecar says how it runs in its `[laser]` table: `check_first = true|false`
+// (dry run in GRBL check mode first, over the [laser] default of atelierd.toml) and
+// `start_from = "bed"|"origin"|"here"` (where job (0,0) lands: the bed's front-left corner, the
+// work zero G54 the operator set, or the head's position at start; drivers/grbl/machine_space.h).
+// The conversion's reader accepts both in a sidecar and ignores them; atelierd reads them here.
+//
 // Needles are named as the knitter sees them: the bed's markings, L1..L100 left of the centre
 // (L1 nearest it) and R1..R100 right of it on a 200-needle bed (KH-270: L56..R56), or a plain
 // number counting needles from the bed's left end (1..200), as [[device]] start_needle does.
@@ -27,6 +33,16 @@ struct JobStart {
 // "SOURCE:LINE: key 'start_row': ..." for a wrong type, a row below 1 or a needle name that
 // is no needle of any bed.
 JobStart take_job_start(toml::table& layer, const std::string& source);
+
+struct LaserJobStart {
+  std::optional<bool> check_first;
+  std::optional<std::string> start_from;  // "bed", "origin" or "here"
+};
+
+// Reads and removes `check_first` and `start_from` from `layer`'s [laser] table (a laser job's
+// sidecar, `source`); other keys are left for the conversion's strict reader, which refuses
+// unknown ones. ParamError "SOURCE:LINE: key 'laser.start_from': ..." for a wrong value.
+LaserJobStart take_laser_job_start(toml::table& layer, const std::string& source);
 
 // The 0-based index of the needle `text` names on a bed of `needles` needles (200, or 112 for
 // the KH-270), or nullopt with `problem` saying why ("L120 is not on the KH-930's bed (L100 to

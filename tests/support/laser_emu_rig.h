@@ -1,11 +1,18 @@
 // Test helpers for the laser emulator: a scripted host around the pure GRBL controller model,
-// on a virtual microsecond clock (no sleeps).
+// on a virtual microsecond clock (no sleeps); and the model as the far end of a simulated link
+// (EmulatedLaserPeer), so a grbl::Session or a LaserDevice talks to it on a FakeClock.
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "base/clock.h"
+#include "drivers/simulated_transport.h"
 #include "tools/laser_emu/controller.h"
 
 namespace atelier::laser_emu::testing {
@@ -65,6 +72,61 @@ struct Rig {
   Controller ctl;
   int64_t t = 0;
   std::string out;
+};
+
+// The controller model behind a SimulatedTransport, on the link's fake clock (microseconds
+// since the peer was made). Keeps every byte the host wrote (`received()`), so a test sees
+// what was sent. Thread-safe: the test thread may look while a device's worker talks to it.
+class EmulatedLaserPeer : public SimulatedPeer {
+ public:
+  EmulatedLaserPeer(Clock::time_point now, ControllerOptions o = {}) : epoch_(now), ctl_(o, record_, 0) {}
+
+  std::string received() const {
+    std::lock_guard lock(mu_);
+    return received_;
+  }
+  Vec3 position() const {
+    std::lock_guard lock(mu_);
+    return ctl_.position();
+  }
+  std::string state() const {
+    std::lock_guard lock(mu_);
+    return ctl_.state_name();
+  }
+  std::vector<Segment> segments() const {
+    std::lock_guard lock(mu_);
+    return record_.segments;
+  }
+
+  void receive(const uint8_t* data, size_t size, Clock::time_point now) override {
+    std::lock_guard lock(mu_);
+    received_.append(reinterpret_cast<const char*>(data), size);
+    ctl_.host_write(std::string_view(reinterpret_cast<const char*>(data), size), us(now));
+    ctl_.advance_to(us(now));
+  }
+  std::vector<uint8_t> take_output(Clock::time_point now) override {
+    std::lock_guard lock(mu_);
+    ctl_.advance_to(us(now));
+    const std::string out = ctl_.take_output();
+    return {out.begin(), out.end()};
+  }
+  std::optional<Clock::time_point> next_event() const override {
+    std::lock_guard lock(mu_);
+    const auto next = ctl_.next_event_us();
+    if (!next) return std::nullopt;
+    return epoch_ + std::chrono::microseconds(*next);
+  }
+
+ private:
+  int64_t us(Clock::time_point t) const {
+    return std::chrono::duration_cast<std::chrono::microseconds>(t - epoch_).count();
+  }
+
+  const Clock::time_point epoch_;
+  mutable std::mutex mu_;
+  Record record_;
+  Controller ctl_;
+  std::string received_;
 };
 
 }  // namespace atelier::laser_emu::testing

@@ -136,13 +136,13 @@ std::string error_of(const std::function<void()>& f) {
 
 TEST_F(StoreTest, FreshDatabaseIsWalAtLatestVersion) {
   Store store(db_path());
-  EXPECT_EQ(latest_schema_version(), 3);
+  EXPECT_EQ(latest_schema_version(), 4);
   EXPECT_EQ(store.schema_version(), latest_schema_version());
 
   RawDb raw(db_path());
   EXPECT_EQ(raw.text("PRAGMA journal_mode"), "wal");
   EXPECT_EQ(raw.integer("PRAGMA user_version"), latest_schema_version());
-  for (const char* table : {"jobs", "events", "id_sequence", "purged_folders"}) {
+  for (const char* table : {"jobs", "events", "id_sequence", "purged_folders", "console_log"}) {
     EXPECT_EQ(raw.integer(std::string("SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' "
                                       "AND name = '") + table + "'"), 1) << table;
   }
@@ -711,6 +711,29 @@ TEST_F(StoreTest, ADatabaseMigratedFromVersionOneCanPurge) {
     EXPECT_EQ(store.purge({id}), std::vector<int64_t>{id});
     EXPECT_TRUE(store.purged_folders().empty()) << "a job without an output folder records none";
   }
+}
+
+TEST_F(StoreTest, ConsoleLinesAreKeptPerDeviceAndTheLastOnesComeBackOldestFirst) {
+  {
+    Store store(db_path());
+    store.add_console_line({0, 1000, "laser", 1000, "$X", "[MSG:Caution: Unlocked]\nok"});
+    store.add_console_line({0, 2000, "other", 1000, "$H", "ok"});
+    store.add_console_line({0, 3000, "laser", 0, "G0X5", "error:9"});
+    store.add_console_line({0, 4000, "laser", 1000, "$$", "$0=10\nok"});
+  }
+  Store store(db_path());  // they survive a restart
+  const auto last_two = store.console_lines("laser", 2);
+  ASSERT_EQ(last_two.size(), 2u);
+  EXPECT_EQ(last_two[0].line, "G0X5");
+  EXPECT_EQ(last_two[0].reply, "error:9");
+  EXPECT_EQ(last_two[0].uid, 0);
+  EXPECT_EQ(last_two[1].line, "$$");
+  EXPECT_EQ(last_two[1].at_ms, 4000);
+  EXPECT_EQ(store.console_lines("laser", 10).size(), 3u);
+  const auto all = store.console_lines("", 10);
+  ASSERT_EQ(all.size(), 4u);
+  EXPECT_EQ(all[1].device, "other");
+  EXPECT_EQ(all[0].reply, "[MSG:Caution: Unlocked]\nok");
 }
 
 }  // namespace

@@ -160,5 +160,20 @@ TEST_F(CtlFormatTest, CancelAllListsTheJobsAndCountsThem) {
             "no unfinished jobs to cancel\n");
 }
 
+TEST_F(CtlFormatTest, LaserCommandsShowEachLineSentWithItsRepliesAndTheLogOldestFirst) {
+  const json unlocked = {{"device", "laser"},
+                         {"effect", "unlocked ($X)"},
+                         {"lines", json::array({{{"sent", "$X"}, {"reply", {"[MSG:Caution: Unlocked]", "ok"}}}})}};
+  EXPECT_EQ(format_laser(unlocked), "> $X\n  [MSG:Caution: Unlocked]\n  ok\nlaser: unlocked ($X)\n");
+  const json log = {{"lines", json::array({{{"at", "2026-12-02T12:00:01.000Z"}, {"device", "laser"}, {"uid", 1000},
+                                            {"line", "$$"}, {"reply", "$0=10\nok"}},
+                                           {{"at", "2026-12-02T12:00:05.000Z"}, {"device", "laser"}, {"uid", 0},
+                                            {"line", "G0X5"}, {"reply", "error:9"}}})}};
+  EXPECT_EQ(lines_of(format_laser(log)),
+            (std::vector<std::string>{"2026-12-02 12:00:01  laser  uid 1000> $$", "  $0=10", "  ok",
+                                      "2026-12-02 12:00:05  laser  uid 0> G0X5", "  error:9"}));
+  EXPECT_EQ(format_laser(json{{"lines", json::array()}}), "no console lines\n");
+}
+
 }  // namespace
 }  // namespace atelier::ctl

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "convert/common/job_start.h"
+#include "convert/common/laser_params.h"
 #include "convert/common/param_table.h"
 
 namespace atelier {
@@ -66,6 +67,47 @@ TEST(JobStartKeys, BadValuesNameTheFileLineAndKey) {
             "cat.png.toml:1: key 'start_needle': 'M3' is no needle: needles are named by the bed's markings "
             "L100..L1, R1..R100 or counted from the left end, 1..200");
   EXPECT_EQ(error("start_needle = 1.5\n"), "cat.png.toml:1: key 'start_needle': expected a needle such as \"L20\", \"R5\" or 30");
+}
+
+TEST(LaserJobStartKeys, CheckFirstAndStartFromAreTheDaemonsAndTheRestIsLeftForTheConversion) {
+  toml::table t = parse("[laser]\ncheck_first = true\nstart_from = \"here\"\ntolerance_mm = 0.05\n", "box.svg.toml");
+  const LaserJobStart s = take_laser_job_start(t, "box.svg.toml");
+  EXPECT_EQ(s.check_first, true);
+  EXPECT_EQ(s.start_from, "here");
+  ASSERT_TRUE(t["laser"].as_table());
+  EXPECT_EQ(t["laser"].as_table()->size(), 1u);  // tolerance_mm: the conversion's
+  toml::table none = parse("[cut]\nkerf_mm = 0.1\n", "b.svg.toml");
+  const LaserJobStart empty = take_laser_job_start(none, "b.svg.toml");
+  EXPECT_FALSE(empty.check_first || empty.start_from);
+}
+
+TEST(LaserJobStartKeys, BadValuesNameTheFileLineAndKey) {
+  auto error = [](const std::string& text) -> std::string {
+    toml::table t = parse(text, "box.svg.toml");
+    try {
+      take_laser_job_start(t, "box.svg.toml");
+    } catch (const ParamError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error("[laser]\ncheck_first = 1\n"), "box.svg.toml:2: key 'laser.check_first': expected true or false");
+  EXPECT_EQ(error("[laser]\n\nstart_from = \"corner\"\n"),
+            "box.svg.toml:3: key 'laser.start_from': expected \"bed\" (the bed's front-left corner), \"origin\" "
+            "(the work zero set with `atelierctl laser origin`) or \"here\" (the head's position at start)");
+}
+
+TEST(LaserJobStartKeys, AnUnknownLaserKeyInASidecarIsRefusedWithTheFileAndKey) {
+  // What the conversion does with what take_laser_job_start leaves: nothing is silently ignored.
+  toml::table t = parse("[laser]\nstart_from = \"bed\"\ncheck_frist = true\n", "box.svg.toml");
+  take_laser_job_start(t, "box.svg.toml");
+  try {
+    read_laser_params(*t["laser"].as_table(), "box.svg.toml");
+    ADD_FAILURE() << "an unknown key was accepted";
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("box.svg.toml:3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("check_frist"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
