@@ -99,6 +99,8 @@ LaserParams read_laser_params(const toml::table& table, const std::string& sourc
       r.get_double("junction_deviation_mm", p.machine.junction_deviation_mm, 0.001, 1);
   p.tolerance_mm = r.get_double("tolerance_mm", p.tolerance_mm, 0.001, 1);
   p.check_first = r.get_bool("check_first", p.check_first);
+  // Read by the driver when the job starts (contract B); checked here so a typo fails early.
+  p.start_from = r.get_choice("start_from", p.start_from, {"bed", "origin", "here"});
   if (const toml::array* layers = r.get_array("layer")) {
     for (size_t i = 0; i < layers->size(); ++i) {
       const toml::table* t = layers->get(i)->as_table();

@@ -14,6 +14,9 @@
 //   junction_deviation_mm = 0.010 (0.001..1)   GRBL $11
 //   tolerance_mm = 0.05 (0.001..1)     largest deviation of flattened curves
 //   check_first = false          run the job in GRBL check mode ($C) first (used by the driver)
+//   start_from = "bed" | "origin" | "here"   where job (0, 0) lands when it starts (used by
+//                                the driver: the bed's front-left corner, work zero G54, or
+//                                the head's position)
 //   [[laser.layer]]              one per SVG stroke colour, like LightBurn's colour layers:
 //     color = "#rrggbb"          required; also "#rgb" and the SVG names black, white, red,
 //                                green (#008000), lime, blue, yellow, cyan, magenta, orange,
@@ -42,6 +45,7 @@ struct LaserParams {
   std::vector<laser::LayerSettings> layers;
   double tolerance_mm = 0.05;
   bool check_first = false;
+  std::string start_from = "bed";  // the driver's; conversions ignore it
 };
 
 // `table` is the [laser] table itself; `source` names the file for errors without a line.

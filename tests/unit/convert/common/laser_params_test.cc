@@ -55,6 +55,7 @@ acceleration_mm_s2 = 800
 junction_deviation_mm = 0.02
 tolerance_mm = 0.02
 check_first = true
+start_from = "here"
 [[laser.layer]]
 color = "#F0A"
 name = "pink engrave"
@@ -74,6 +75,7 @@ kerf_mm = 0.15
   EXPECT_DOUBLE_EQ(p.machine.travel_mm_min, 3000);
   EXPECT_DOUBLE_EQ(p.tolerance_mm, 0.02);
   EXPECT_TRUE(p.check_first);
+  EXPECT_EQ(p.start_from, "here");
   ASSERT_EQ(p.layers.size(), 2u) << "configured layers replace the defaults";
   EXPECT_EQ(p.layers[0].color, "#ff00aa");
   EXPECT_EQ(p.layers[0].name, "pink engrave");
@@ -94,6 +96,8 @@ TEST(LaserParams, ErrorsNameFileLineAndKey) {
               HasSubstr("atelierd.toml:2: key 'laser.origin': is no longer read"));
   EXPECT_THAT(error_of("[laser]\norigin = \"front-left\"\n"),
               HasSubstr("start_from = \"bed\" | \"origin\" | \"here\""));
+  EXPECT_THAT(error_of("[laser]\nstart_from = \"home\"\n"),
+              HasSubstr("atelierd.toml:2: key 'laser.start_from'"));
   EXPECT_THAT(error_of("[laser]\nacceleration_mm_s2 = 0\n"),
               HasSubstr("atelierd.toml:2: key 'laser.acceleration_mm_s2'"));
   EXPECT_THAT(error_of("[laser]\nwork_area_mm = [400]\n"),
