@@ -17,6 +17,9 @@ namespace fs = std::filesystem;
 
 constexpr int kMaxGridPx = 20000;       // per side: 5000 mm at 0.25 mm, or 500 mm at 1000 dpi
 constexpr double kLinkBytesPerS = 11520;  // 115200 baud, 8N1: GRBL's serial link
+constexpr double kBeamMm = 0.2;        // the burned spot's diameter (a diode laser's, focused)
+constexpr double kFinePxPerMm = 40;    // preview drawing resolution before averaging down
+constexpr double kMaxFinePx = 1.5e8;   // bytes of the fine drawing, at most
 
 double round3(double v) { return std::round(v * 1000) / 1000; }
 
@@ -50,21 +53,39 @@ laser::Grid<uint8_t> grid_of(const cv::Mat& grey) {
   return g;
 }
 
-// See engrave_job.h: one output dpi pixel per dot, rows stretched to the line interval.
-cv::Mat render_preview(const laser::Grid<int>& power, double s_max, double width_mm, double height_mm,
+// See engrave_job.h. Drawn at kFinePxPerMm (the beam's 0.2 mm spot is 8 px there), then
+// averaged down to the output dpi, so the dot gain of the round spot shows as it will burn.
+cv::Mat render_preview(const std::vector<laser::ScanLine>& lines,
+                       const laser::RasterPlacement& place, double s_max, double width_mm, double height_mm,
                        double dpi) {
-  cv::Mat grid(power.rows, power.cols, CV_8U);
-  for (int r = 0; r < power.rows; ++r)
-    for (int c = 0; c < power.cols; ++c) {
-      const int s = power.at(r, c);
-      grid.at<uint8_t>(r, c) =
-          s <= 0 ? 255 : static_cast<uint8_t>(std::lround(200.0 * (1.0 - std::min(1.0, s / s_max))));
-    }
   const double ppm = dpi / 25.4;
   const int cols = std::max(1, static_cast<int>(std::lround(width_mm * ppm)));
   const int rows = std::max(1, static_cast<int>(std::lround(height_mm * ppm)));
+  int k = std::max(1, static_cast<int>(std::lround(kFinePxPerMm / ppm)));
+  while (k > 1 && static_cast<double>(cols) * rows * k * k > kMaxFinePx) --k;
+  const double fine = ppm * k;
+  cv::Mat big(rows * k, cols * k, CV_8U, cv::Scalar(255));
+  struct Stroke {
+    int s;
+    cv::Point a, b;
+  };
+  constexpr int kShift = 4;  // sub-pixel endpoints
+  auto px = [&](double mm) { return static_cast<int>(std::lround(mm * fine * (1 << kShift))); };
+  std::vector<Stroke> strokes;
+  for (const laser::ScanLine& l : lines) {
+    const int y = px((l.row + 0.5) * place.line_mm);
+    for (const laser::Run& r : l.runs)
+      if (r.s > 0) strokes.push_back({r.s, {px(r.col0 * place.dot_mm), y}, {px(r.col1 * place.dot_mm), y}});
+  }
+  // Weakest first: where spots overlap, the strongest burn shows.
+  std::stable_sort(strokes.begin(), strokes.end(), [](const Stroke& a, const Stroke& b) { return a.s < b.s; });
+  const int thickness = std::max(1, static_cast<int>(std::lround(kBeamMm * fine)));
+  for (const Stroke& st : strokes) {
+    const double grey = 200.0 * (1.0 - std::min(1.0, st.s / s_max));
+    cv::line(big, st.a, st.b, cv::Scalar(grey), thickness, cv::LINE_8, kShift);
+  }
   cv::Mat out;
-  cv::resize(grid, out, cv::Size(cols, rows), 0, 0, cv::INTER_NEAREST);
+  cv::resize(big, out, cv::Size(cols, rows), 0, 0, cv::INTER_AREA);
   return out;
 }
 
@@ -109,11 +130,12 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
   motion.overscan_mm = p.overscan_mm > 0 ? p.overscan_mm : laser::overscan_for(p.speed_mm_min, m.accel_mm_s2);
 
   laser::Grid<int> power;
+  std::vector<laser::ScanLine> lines;
   laser::RasterJob job;
   double estimated_s = 0;
   try {
     power = laser::power_grid(grid_of(sized), ps);
-    const auto lines = laser::scan_lines(power, p.bidirectional);
+    lines = laser::scan_lines(power, p.bidirectional);
     report_progress(req, 0.5);
     const std::string comment = std::string("engrave ") + laser::dither_name(p.dither) + " " +
                                 laser::format_number(p.dpi) + "dpi " + laser::format_number(p.speed_mm_min) +
@@ -131,13 +153,14 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
   if (ec) throw ConvertError(req.output_dir.string() + ": cannot create output folder: " + ec.message());
   const fs::path& out = req.output_dir;
   write_output(out / kEngraveGcodeFile, job.gcode);
-  const cv::Mat preview = render_preview(power, m.s_max, p.width_mm, rows * p.line_interval_mm, p.dpi);
+  const cv::Mat preview =
+      render_preview(lines, place, m.s_max, p.width_mm, rows * p.line_interval_mm, p.dpi);
   write_output_png(out / "preview.png", preview);
   report_progress(req, 0.9);
 
   ConvertResult result;
   result.outputs = {kEngraveGcodeFile, "preview.png", "report.json"};
-  const auto lines = std::count(job.gcode.begin(), job.gcode.end(), '\n');
+  const auto gcode_lines = std::count(job.gcode.begin(), job.gcode.end(), '\n');
   const double burn_s = job.scan_length_mm / p.speed_mm_min * 60;  // at the feed, every G1
   nlohmann::ordered_json r;
   r["kind"] = "engrave";
@@ -168,11 +191,11 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
   r["coordinates"] = "bed";  // X from the bed's left edge, Y from its front edge
   r["work_area_mm"] = {m.width_mm, m.height_mm};
   r["s_max"] = m.s_max;
-  r["gcode_lines"] = lines;
+  r["gcode_lines"] = gcode_lines;
   r["gcode_bytes"] = job.gcode.size();
   // What streaming must carry while the head scans at the feed: GRBL's 115200 baud link moves
   // 11520 bytes/s; above that (or above GRBL's planner rate) the head would starve and slow.
-  r["stream"] = {{"lines_per_s", round3(burn_s > 0 ? lines / burn_s : 0)},
+  r["stream"] = {{"lines_per_s", round3(burn_s > 0 ? gcode_lines / burn_s : 0)},
                  {"bytes_per_s", round3(burn_s > 0 ? job.gcode.size() / burn_s : 0)},
                  {"link_bytes_per_s", kLinkBytesPerS}};
   r["preview_px_per_mm"] = round3(p.dpi / 25.4);

@@ -5,9 +5,12 @@
 // Writes into request.output_dir, each file atomically:
 //   job.gcode    the program: bed coordinates, M4, one G1 per run of equal power
 //   preview.png  what will be burned: the engraving's area at the output dpi (dpi / 25.4 px per
-//                mm both ways), white where nothing burns, a burn at fraction p of full power
-//                as grey 200 * (1 - p) (full power black; the faintest burn still clearly
-//                marks, as on wood; the laser emulator's --render uses the same scale)
+//                mm both ways), white where nothing burns. Each run is drawn as the beam burns
+//                it, a 0.2 mm round spot swept from its first to its last dot (so a lone dot is
+//                longer than the dot pitch: the dot gain a real burn shows), at fraction p of
+//                full power as grey 200 * (1 - p) (full power black; the faintest burn still
+//                clearly marks, as on wood; the laser emulator's --render uses the same
+//                model), drawn finely and averaged down to the output dpi
 //   report.json  dpi, line interval, dithering, power range, gamma, size, position, bounds,
 //                overscan, estimated time, G-code lines and bytes, and the streaming rate
 //                they need (lines and bytes per second of burning)
