@@ -17,7 +17,6 @@ namespace fs = std::filesystem;
 
 constexpr int kMaxGridPx = 20000;       // per side: 5000 mm at 0.25 mm, or 500 mm at 1000 dpi
 constexpr double kLinkBytesPerS = 11520;  // 115200 baud, 8N1: GRBL's serial link
-constexpr double kBeamMm = 0.2;        // the burned spot's diameter (a diode laser's, focused)
 constexpr double kFinePxPerMm = 40;    // preview drawing resolution before averaging down
 constexpr double kMaxFinePx = 1.5e8;   // bytes of the fine drawing, at most
 
@@ -53,11 +52,11 @@ laser::Grid<uint8_t> grid_of(const cv::Mat& grey) {
   return g;
 }
 
-// See engrave_job.h. Drawn at kFinePxPerMm (the beam's 0.2 mm spot is 8 px there), then
+// See engrave_job.h. Drawn at kFinePxPerMm (a 0.2 mm spot is 8 px there), then
 // averaged down to the output dpi, so the dot gain of the round spot shows as it will burn.
 cv::Mat render_preview(const std::vector<laser::ScanLine>& lines,
-                       const laser::RasterPlacement& place, double s_max, double width_mm, double height_mm,
-                       double dpi) {
+                       const laser::RasterPlacement& place, double s_max, double spot_mm, double width_mm,
+                       double height_mm, double dpi) {
   const double ppm = dpi / 25.4;
   const int cols = std::max(1, static_cast<int>(std::lround(width_mm * ppm)));
   const int rows = std::max(1, static_cast<int>(std::lround(height_mm * ppm)));
@@ -79,7 +78,7 @@ cv::Mat render_preview(const std::vector<laser::ScanLine>& lines,
   }
   // Weakest first: where spots overlap, the strongest burn shows.
   std::stable_sort(strokes.begin(), strokes.end(), [](const Stroke& a, const Stroke& b) { return a.s < b.s; });
-  const int thickness = std::max(1, static_cast<int>(std::lround(kBeamMm * fine)));
+  const int thickness = std::max(1, static_cast<int>(std::lround(spot_mm * fine)));
   for (const Stroke& st : strokes) {
     const double grey = 200.0 * (1.0 - std::min(1.0, st.s / s_max));
     cv::line(big, st.a, st.b, cv::Scalar(grey), thickness, cv::LINE_8, kShift);
@@ -154,7 +153,7 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
   const fs::path& out = req.output_dir;
   write_output(out / kEngraveGcodeFile, job.gcode);
   const cv::Mat preview =
-      render_preview(lines, place, m.s_max, p.width_mm, rows * p.line_interval_mm, p.dpi);
+      render_preview(lines, place, m.s_max, p.spot_mm, p.width_mm, rows * p.line_interval_mm, p.dpi);
   write_output_png(out / "preview.png", preview);
   report_progress(req, 0.9);
 
@@ -168,6 +167,7 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
   r["dither"] = laser::dither_name(p.dither);
   r["dpi"] = p.dpi;
   r["line_interval_mm"] = p.line_interval_mm;
+  r["spot_mm"] = p.spot_mm;
   r["size_mm"] = {round3(p.width_mm), round3(rows * p.line_interval_mm)};
   r["position_mm"] = {p.position_x_mm, p.position_y_mm};
   r["grid"] = {{"cols", cols}, {"rows", rows}};

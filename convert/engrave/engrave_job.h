@@ -6,7 +6,7 @@
 //   job.gcode    the program: bed coordinates, M4, one G1 per run of equal power
 //   preview.png  what will be burned: the engraving's area at the output dpi (dpi / 25.4 px per
 //                mm both ways), white where nothing burns. Each run is drawn as the beam burns
-//                it, a 0.2 mm round spot swept from its first to its last dot (so a lone dot is
+//                it, a round spot of spot_mm swept from its first to its last dot (so a lone dot is
 //                longer than the dot pitch: the dot gain a real burn shows), at fraction p of
 //                full power as grey 200 * (1 - p) (full power black; the faintest burn still
 //                clearly marks, as on wood; the laser emulator's --render uses the same

@@ -21,6 +21,7 @@ EngraveParams read_engrave_params(const toml::table& params, const std::string& 
       "dither", "jarvis", {"threshold", "ordered", "floyd-steinberg", "jarvis", "stucki", "greyscale"}));
   p.dpi = r.get_double("dpi", p.dpi, 10, 1000);
   p.line_interval_mm = r.get_double("line_interval_mm", p.line_interval_mm, 0.01, 5);
+  p.spot_mm = r.get_double("spot_mm", p.spot_mm, 0.01, 2);
   p.width_mm = r.get_double("width_mm", p.width_mm, 1, 5000);
   if (const toml::array* pos = r.get_array("position_mm")) {
     auto x = pos->size() == 2 ? pos->get(0)->value<double>() : std::nullopt;

@@ -4,8 +4,10 @@
 // Keys (default, range):
 //   dither = "jarvis"      threshold | ordered (8x8 Bayer) | floyd-steinberg | jarvis | stucki
 //                          (dots at max power) or greyscale (S per pixel run)
-//   dpi = 254 (10..1000)   dots per inch along a scan line (254 = 0.1 mm dots)
-//   line_interval_mm = 0.1 (0.01..5)   distance between scan lines
+//   dpi = 127 (10..1000)   dots per inch along a scan line (127 = 0.2 mm dots)
+//   line_interval_mm = 0.2 (0.01..5)   distance between scan lines
+//   spot_mm = 0.2 (0.01..2)            the burned spot's diameter (the preview draws each run
+//                                      with it: dots and lines finer than the spot overlap)
 //   width_mm = 100 (1..5000)           the engraving's width; its height keeps the aspect
 //   position_mm = [10, 10]             bed mm of its front-left corner (X from the bed's left
 //                                      edge, Y from its front edge), each 0..5000
@@ -35,8 +37,9 @@ namespace atelier {
 
 struct EngraveParams {
   laser::Dither dither = laser::Dither::jarvis;
-  double dpi = 254;
-  double line_interval_mm = 0.1;
+  double dpi = 127;
+  double line_interval_mm = 0.2;
+  double spot_mm = 0.2;
   double width_mm = 100;
   double position_x_mm = 10, position_y_mm = 10;
   double speed_mm_min = 3000;

@@ -127,7 +127,8 @@ TEST_F(ConvertEngraveTest, BlankMarginsAndLinesAreNotScanned) {
   cv::rectangle(img, cv::Point(50, 25), cv::Point(149, 74), cv::Scalar(0, 0, 0), cv::FILLED);
   cv::imwrite((dir_ / "box.png").string(), img);
   // 20 mm wide, 0.1 mm dots and lines: the box spans X 5..15 mm and 2.5..7.5 mm up.
-  const ConvertResult r = run(dir_ / "box.png", "width_mm = 20\nposition_mm = [0, 0]\ndither = \"threshold\"\n");
+  const ConvertResult r = run(dir_ / "box.png", "width_mm = 20\nposition_mm = [0, 0]\ndither = \"threshold\"\n"
+                                                 "dpi = 254\nline_interval_mm = 0.1\n");
   const auto& b = r.report["bounds_mm"];
   EXPECT_NEAR(b["min_x"].get<double>(), 5, 0.11);
   EXPECT_NEAR(b["max_x"].get<double>(), 15, 0.11);
