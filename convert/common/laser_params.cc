@@ -87,9 +87,12 @@ LaserParams read_laser_params(const toml::table& table, const std::string& sourc
     p.machine.height_mm = v[1];
   }
   p.machine.s_max = r.get_double("s_max", p.machine.s_max, 1, 100000);
-  if (r.has("origin")) {
-    r.fail("origin", "is no longer read: jobs are written in bed coordinates (0, 0 = the bed's "
-                     "front-left corner) and the driver places them when a job starts, by its "
+  // Looked up on the table itself, not through the reader: the key is no setting any more (the
+  // config test lists the keys readers ask for), only refused with its reason.
+  if (const toml::node* origin = table.get("origin")) {
+    throw ParamError(where(*origin, source) +
+                     "key 'laser.origin': is no longer read: jobs are written in bed "
+                     "coordinates (0, 0 = the bed's front-left corner) and the driver places them when a job starts, by its "
                      "start_from = \"bed\" | \"origin\" | \"here\" (sidecar [laser] key or "
                      "`atelierctl start ID --start-from`); remove the key");
   }

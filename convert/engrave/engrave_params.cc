@@ -42,7 +42,8 @@ EngraveParams read_engrave_params(const toml::table& params, const std::string& 
   p.bidirectional = r.get_bool("bidirectional", p.bidirectional);
   p.overscan_mm = r.get_double("overscan_mm", p.overscan_mm, 0, 100);
   const toml::table* laser = r.get_table("laser");
-  p.laser = read_laser_params(laser ? *laser : toml::table{}, source);
+  // Not `laser ? *laser : toml::table{}`: that copies, and copies lose their line numbers.
+  p.laser = laser ? read_laser_params(*laser, source) : read_laser_params(toml::table{}, source);
   r.finish();
   return p;
 }
