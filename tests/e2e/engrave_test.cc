@@ -98,6 +98,7 @@ TEST(E2EEngrave, APhotoIsBurnedAsThePreviewShowsForDitheredAndGreyscalePower) {
   const cv::Mat burnt = cv::imread(render.string(), cv::IMREAD_GRAYSCALE);
   ASSERT_EQ(burnt.cols, static_cast<int>(kBedMm * kRenderPxPerMm));
 
+  std::vector<cv::Mat> seens;
   for (size_t i = 0; i < previews.size(); ++i) {
     SCOPED_TRACE(engravings[i].dither);
     const cv::Mat& preview = previews[i];
@@ -116,7 +117,18 @@ TEST(E2EEngrave, APhotoIsBurnedAsThePreviewShowsForDitheredAndGreyscalePower) {
     EXPECT_GE(s, 0.9) << "the burn differs from preview.png";
     // Not a blank match: the photo was burned (a fifth of the area at least darkened).
     EXPECT_GT(cv::countNonZero(seen < 230), preview.total() / 5);
+    seens.push_back(seen);
   }
+  // The measure tells the modes apart: each burn against another mode's preview (the same
+  // photo, other dots) scores well below the bar.
+  ASSERT_EQ(seens.size(), 3u);
+  for (size_t i = 0; i < 3; ++i)
+    for (size_t j = 0; j < 3; ++j)
+      if (i != j) {
+        const double s = ssim(seens[i], previews[j]);
+        std::cout << "burn " << engravings[i].dither << " vs preview " << engravings[j].dither << ": SSIM " << s << "\n";
+        EXPECT_LT(s, 0.9) << engravings[i].dither << " vs " << engravings[j].dither;
+      }
   if (const char* keep = std::getenv("ATELIER_KEEP_ENGRAVE_RENDERS")) {
     std::error_code ec;
     fs::create_directories(keep, ec);
