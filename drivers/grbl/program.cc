@@ -14,6 +14,7 @@ namespace atelier::grbl {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kArcToleranceMm = 0.002;  // GRBL's $12 default (DEFAULT_ARC_TOLERANCE)
 
 [[noreturn]] void fail(int line, const std::string& what) {
   throw BadInput("line " + std::to_string(line) + ": " + what);
@@ -140,7 +141,13 @@ struct Machine {
   bool absolute = true;
   double unit = 1;   // mm per program unit (25.4 under G20)
   double feed = 0;   // mm/min
+  double s = 0;      // spindle speed word (laser power)
+  int spindle = 5;   // 3 (M3), 4 (M4) or 5 (M5)
   std::optional<Bounds> extent;
+  // The moves GRBL's planner receives (arcs as mc_arc segments them), each tied to its line.
+  std::vector<laser::PlannedMove> moves;
+  std::vector<size_t> move_line;
+  bool sync = false;  // GRBL emptied the planner since the last move
 
   void include(double x, double y) {
     if (!extent) extent = Bounds{x, y, x, y};
@@ -149,15 +156,25 @@ struct Machine {
     extent->max_x = std::max(extent->max_x, x);
     extent->max_y = std::max(extent->max_y, y);
   }
+  void move(const std::array<double, 3>& to, double feed_mm_min, bool rapid, size_t line) {
+    moves.push_back({to, feed_mm_min, rapid, sync});
+    move_line.push_back(line);
+    sync = false;
+  }
 };
 
 bool is(double v, double g) { return std::fabs(v - g) < 1e-6; }
+bool feed_mode(int motion) { return motion >= 1 && motion <= 3; }
 
-// Runs one line on the modal state; returns its estimated seconds.
-double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
-  std::optional<double> ax[3], off[2], r, p;
-  bool non_modal_axes = false, dwell = false;
-  std::optional<int> motion;
+// Runs line `line` (index into Program::lines) on the modal state: its moves go to m.moves;
+// returns its dwell seconds. Laser mode ($32=1) rules of GRBL 1.1h's gcode.c decide where
+// the planner is synchronised (emptied, so the head stops): an M3/M4/M5 change, an S change
+// on a line without motion while the laser is on, an M3 line without motion that leaves or
+// enters G1/G2/G3, G4, M0/M1/M2/M30, and (mc_line) a zero-length move under M3.
+double run(Machine& m, const std::vector<Word>& ws, size_t line, double arc_tolerance_mm) {
+  std::optional<double> ax[3], off[2], r, p, s_word;
+  bool non_modal_axes = false, dwell = false, flow = false;
+  std::optional<int> motion, spindle;
   for (const Word& w : ws) {
     switch (w.letter) {
       case 'G':
@@ -174,6 +191,10 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
                  is(w.value, 28.1) || is(w.value, 30.1) || is(w.value, 92.1))
           non_modal_axes = true;
         break;
+      case 'M':
+        if (is(w.value, 3) || is(w.value, 4) || is(w.value, 5)) spindle = static_cast<int>(w.value);
+        else if (is(w.value, 0) || is(w.value, 1) || is(w.value, 2) || is(w.value, 30)) flow = true;
+        break;
       case 'X': ax[0] = w.value; break;
       case 'Y': ax[1] = w.value; break;
       case 'Z': ax[2] = w.value; break;
@@ -181,22 +202,42 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
       case 'J': off[1] = w.value; break;
       case 'R': r = w.value; break;
       case 'P': p = w.value; break;
+      case 'S': s_word = w.value; break;
       case 'F': m.feed = w.value; break;  // unit applied below: F follows G20/G21 of its line
       default: break;
     }
   }
+  const int new_motion = motion.value_or(m.motion);
+  const bool axis_motion = (ax[0] || ax[1] || ax[2]) && !non_modal_axes && new_motion >= 0;
+  // gcode.c [4.]: S changes (or M3's forced sync) while the laser is on sync unless the line moves.
+  const bool force_sync = m.spindle == 3 && !axis_motion && feed_mode(m.motion) != feed_mode(new_motion);
+  if ((s_word && *s_word != m.s) || force_sync) {
+    if (m.spindle != 5 && !axis_motion) m.sync = true;
+    if (s_word) m.s = *s_word;
+  }
+  // [7.] a spindle state change always syncs.
+  if (spindle && *spindle != m.spindle) {
+    m.sync = true;
+    m.spindle = *spindle;
+  }
   double seconds = 0;
+  if (dwell) m.sync = true;  // mc_dwell: protocol_buffer_synchronize, then the delay
   if (dwell && p) seconds += std::max(0.0, *p);
-  if (motion) m.motion = *motion;
-  if (non_modal_axes || !(ax[0] || ax[1] || ax[2]) || m.motion < 0) return seconds;
+  m.motion = new_motion;
+  if (!axis_motion) {
+    if (flow) m.sync = true;
+    return seconds;
+  }
 
   const std::array<double, 3> from = m.pos;
   std::array<double, 3> to = from;
   for (int i = 0; i < 3; ++i)
     if (ax[i]) to[i] = m.absolute ? *ax[i] * m.unit : from[i] + *ax[i] * m.unit;
   const double feed = m.feed * m.unit;
+  const bool rapid = m.motion == 0;
+  // A feed move without a feed is GRBL's error:22: nothing moves, nothing to time.
+  const bool timed = rapid || feed > 0;
 
-  double length = std::hypot(to[0] - from[0], to[1] - from[1], to[2] - from[2]);
   if (m.motion == 2 || m.motion == 3) {
     // The arc in the XY plane as GRBL's gcode.c constructs it (centre from I/J or R).
     const double x = to[0] - from[0], y = to[1] - from[1];
@@ -218,7 +259,6 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
     double sweep = std::atan2(r0x * r1y - r0y * r1x, r0x * r1x + r0y * r1y);
     if (m.motion == 2 && sweep >= -1e-9) sweep -= 2 * kPi;
     if (m.motion == 3 && sweep <= 1e-9) sweep += 2 * kPi;
-    length = std::hypot(radius * sweep, to[2] - from[2]);
     const double a0 = std::atan2(r0y, r0x);
     constexpr int kSamples = 72;
     for (int k = 1; k < kSamples; ++k) {
@@ -231,11 +271,26 @@ double run(Machine& m, const std::vector<Word>& ws, double rapid_mm_min) {
       const double t = (a - a0) / sweep;
       if (t > 0 && t < 1) m.include(cx + radius * std::cos(a), cy + radius * std::sin(a));
     }
+    // motion_control.c mc_arc: chords whose sagitta stays within the arc tolerance ($12).
+    const double tol = arc_tolerance_mm;
+    const double chord = std::sqrt(std::max(0.0, tol * (2 * radius - tol)));
+    const int segments = chord > 0 ? static_cast<int>(std::floor(std::fabs(0.5 * sweep * radius) / chord)) : 0;
+    for (int k = 1; timed && k < segments; ++k) {
+      const double a = a0 + sweep * k / segments;
+      m.move({cx + radius * std::cos(a), cy + radius * std::sin(a), from[2] + (to[2] - from[2]) * k / segments},
+             feed, false, line);
+    }
   }
   m.include(to[0], to[1]);
   m.pos = to;
-  if (m.motion == 0) return seconds + (rapid_mm_min > 0 ? length / rapid_mm_min * 60 : 0);
-  return seconds + (feed > 0 ? length / feed * 60 : 0);
+  if (timed) {
+    // mc_line: in laser mode a zero-length move under M3 syncs (it never enters the planner).
+    const bool empty = to == from && m.motion <= 1;
+    if (empty && m.spindle == 3) m.sync = true;
+    else m.move(to, feed, rapid, line);
+  }
+  if (flow) m.sync = true;  // [21.] program flow after the line's motion
+  return seconds;
 }
 
 std::string mm(double v) {
@@ -258,7 +313,7 @@ std::string trim_spaces(const std::string& s) {
 
 double Program::total_seconds() const { return std::accumulate(seconds.begin(), seconds.end(), 0.0); }
 
-Program parse_program(std::string_view gcode, double rapid_mm_min) {
+Program parse_program(std::string_view gcode, const laser::MotionSettings& motion) {
   Program p;
   Machine m;
   int line_no = 0;
@@ -289,13 +344,22 @@ Program parse_program(std::string_view gcode, double rapid_mm_min) {
     const std::vector<Word> ws = words(s.code);
     if (std::any_of(ws.begin(), ws.end(), [](const Word& w) { return w.letter == 'M' && is(w.value, 0); }))
       p.pauses[p.lines.size()] = last_comment;
-    p.seconds.push_back(run(m, ws, rapid_mm_min));
+    p.seconds.push_back(run(m, ws, p.lines.size(), kArcToleranceMm));
     p.lines.push_back(std::move(s.code));
     p.source_line.push_back(line_no);
     p.source_text.emplace_back(raw);
   }
   if (!p.bounds) p.bounds = m.extent;
+  // GRBL's planner and stepper over the whole stream: each move's time goes to its line.
+  const std::vector<double> t = laser::move_seconds(m.moves, motion);
+  for (size_t k = 0; k < t.size(); ++k) p.seconds[m.move_line[k]] += t[k];
   return p;
+}
+
+Program parse_program(std::string_view gcode, double rapid_mm_min) {
+  laser::MotionSettings motion;
+  if (rapid_mm_min > 0) motion.max_rate_mm_min[0] = motion.max_rate_mm_min[1] = rapid_mm_min;
+  return parse_program(gcode, motion);
 }
 
 Program frame_program(const Bounds& b, double feed_mm_min, double rapid_mm_min) {

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <vector>
 
 namespace atelier::laser_emu {
 namespace {
 
-constexpr double kMinimumFeedRate = 1.0;  // mm/min, GRBL's MINIMUM_FEED_RATE
+// A phase shorter than this (a cruise of zero length, left by rounding) is merged into the
+// next one rather than recorded as a piece of its own.
+constexpr int64_t kPhaseSlackNs = 1000;
+
 
 double distance(const Vec3& a, const Vec3& b) {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
@@ -42,24 +45,53 @@ bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time
   b.start = planner_position();
   for (int i = 0; i < 3; ++i) b.end[i] = steps_to_mm(steps[i], settings_.steps_per_mm(i));
   b.length = distance(b.start, b.end);
-  // limit_value_by_axis_maximum(): the largest rate/acceleration along the move that keeps
-  // every axis within its own limit.
-  double rapid_rate = std::numeric_limits<double>::infinity();
-  double accel = std::numeric_limits<double>::infinity();
+  laser::MotionSettings ms;
   for (int i = 0; i < 3; ++i) {
-    const double u = std::fabs(b.end[i] - b.start[i]) / b.length;
-    if (u <= 0) continue;
-    rapid_rate = std::min(rapid_rate, settings_.max_rate(i) / u);
-    accel = std::min(accel, settings_.accel(i) / u);
+    ms.max_rate_mm_min[i] = settings_.max_rate(i);
+    ms.accel_mm_s2[i] = settings_.accel(i);
+    ms.steps_per_mm[i] = settings_.steps_per_mm(i);
   }
-  double rate = rapid ? rapid_rate : (inverse_time ? feed * b.length : feed);
-  b.rate = std::max(kMinimumFeedRate, std::min(rate, rapid_rate));
-  b.accel = accel;
+  ms.junction_deviation_mm = settings_.get(11);
+  if (queue_.empty()) planner_.sync();  // an empty planner: this block starts from rest
+  b.plan = planner_.add(ms, {b.end[0] - b.start[0], b.end[1] - b.start[1], b.end[2] - b.start[2]},
+                        inverse_time ? feed * b.length : feed, rapid);
+  b.rate = b.plan.nominal_mm_min;
+  b.accel = b.plan.accel_mm_s2;
   b.spindle = spindle;
   b.s = s;
   queue_.push_back(b);
   planner_steps_ = steps;
+  // The running block may now leave faster: replan it from where the head is (GRBL's stepper
+  // takes the new plan at its next segment).
+  if (running_ && !decel_ && queue_.size() >= 2) {
+    const double d = distance_at(now_), v = speed_at(now_);
+    close_piece(now_);
+    d0_ = d;
+    profile_front(now_, v);
+    begin_piece(now_);
+  }
   return true;
+}
+
+void Motion::profile_front(int64_t now, double entry_mm_min) {
+  t0_ = now;
+  phase_ = 0;
+  const size_t n = std::min<size_t>(queue_.size(), kPlannerBlocks);
+  std::vector<laser::PlannerBlock> plan(n);
+  for (size_t i = 0; i < n; ++i) plan[i] = queue_[i].plan;
+  const Block& b = queue_.front();
+  plan[0].length_mm = std::max(0.0, b.length - d0_);
+  const double exit = laser::planned_exit(plan.data(), n, entry_mm_min);
+  prof_ = laser::trapezoid(plan[0].length_mm, entry_mm_min, b.rate, exit, b.accel);
+  while (phase_ < 2 && phase_end(phase_) <= now + kPhaseSlackNs) ++phase_;
+}
+
+int64_t Motion::phase_end(int phase) const {
+  const double a = prof_.accel_mm_s2 * 60;  // mm/min per s
+  double secs = prof_.seconds;
+  if (a > 0 && phase == 0) secs = (prof_.peak_mm_min - prof_.entry_mm_min) / a;
+  if (a > 0 && phase == 1) secs = prof_.seconds - (prof_.peak_mm_min - prof_.exit_mm_min) / a;
+  return t0_ + static_cast<int64_t>(std::ceil(std::clamp(secs, 0.0, prof_.seconds) * time_scale_ * 1e9));
 }
 
 Vec3 Motion::position() const {
@@ -82,21 +114,16 @@ void Motion::set_position(const Vec3& mm) {
 double Motion::distance_at(int64_t t) const {
   if (!running_ || queue_.empty()) return 0;
   const Block& b = queue_.front();
-  const double v = b.rate / 60.0;  // mm/s
-  if (decel_) {
-    const double tau = static_cast<double>(std::min(t, stop_t_) - t0_) * 1e-9 / time_scale_;
-    return std::min(stop_d_, d0_ + v * tau - 0.5 * decel_a_ * tau * tau);
-  }
-  const double tau = static_cast<double>(t - t0_) * 1e-9 / time_scale_;
-  return std::min(b.length, d0_ + v * tau);
+  const double tau = static_cast<double>(std::max<int64_t>(0, (decel_ ? std::min(t, stop_t_) : t) - t0_)) * 1e-9 / time_scale_;
+  if (decel_) return std::min(stop_d_, d0_ + decel_v0_ * tau - 0.5 * decel_a_ * tau * tau);
+  return std::min(b.length, d0_ + prof_.distance_at(tau));
 }
 
 double Motion::speed_at(int64_t t) const {
   if (!running_ || queue_.empty()) return 0;
-  const double v = queue_.front().rate / 60.0;
-  if (!decel_) return v * 60.0;
-  const double tau = static_cast<double>(std::min(t, stop_t_) - t0_) * 1e-9 / time_scale_;
-  return std::max(0.0, v - decel_a_ * tau) * 60.0;
+  const double tau = static_cast<double>(std::max<int64_t>(0, (decel_ ? std::min(t, stop_t_) : t) - t0_)) * 1e-9 / time_scale_;
+  if (decel_) return std::max(0.0, decel_v0_ - decel_a_ * tau) * 60.0;
+  return prof_.speed_at(tau);
 }
 
 Motion::Output Motion::output_at(int64_t t) const {
@@ -155,8 +182,10 @@ void Motion::finish_block(int64_t t) {
   head_ = b.end;
   t0_ = t;
   d0_ = 0;
+  if (!queue_.empty()) profile_front(t, prof_.exit_mm_min);
   if (queue_.empty()) {
     running_ = false;
+    planner_.sync();
     // Cycle end: M4 output follows the speed (now 0); M3 keeps the last block's power.
     idle_ = b.spindle == Spindle::cw ? Output{b.spindle, b.s, 0, 0} : Output{b.spindle, 0, 0, 0};
   }
@@ -166,9 +195,7 @@ void Motion::finish_block(int64_t t) {
 std::optional<int64_t> Motion::next_event() const {
   if (!running_ || queue_.empty()) return std::nullopt;
   if (decel_) return stop_t_;
-  const Block& b = queue_.front();
-  const double secs = (b.length - d0_) / (b.rate / 60.0) * time_scale_;
-  return t0_ + static_cast<int64_t>(std::ceil(secs * 1e9));
+  return phase_end(phase_);
 }
 
 void Motion::advance(int64_t now) {
@@ -193,6 +220,12 @@ void Motion::advance(int64_t now) {
       d0_ = 0;
       idle_ = Output{};  // the head stands still: M4 off; M3 is turned off by the hold itself
       begin_piece(*due);
+    } else if (phase_ < 2) {
+      // From accelerating to cruising to decelerating: a new piece, so M4's power stays exact.
+      close_piece(*due);
+      ++phase_;
+      while (phase_ < 2 && phase_end(phase_) <= *due + kPhaseSlackNs) ++phase_;
+      begin_piece(*due);
     } else {
       finish_block(*due);
     }
@@ -207,8 +240,8 @@ void Motion::start(int64_t now) {
   head_ = queue_.front().start;
   running_ = true;
   decel_ = false;
-  t0_ = now_;
   d0_ = 0;
+  profile_front(now_, 0);  // from rest (a cycle start, or the resume after a hold)
   begin_piece(now_);
 }
 
@@ -217,11 +250,12 @@ void Motion::hold(int64_t now) {
   if (!running_ || decel_) return;
   close_piece(now_);
   const Block& b = queue_.front();
-  const double d = distance_at(now_), v = b.rate / 60.0, a = b.accel;
+  const double d = distance_at(now_), v = speed_at(now_) / 60.0, a = b.accel;
   d0_ = d;
   t0_ = now_;
   decel_ = true;
   decel_a_ = a;
+  decel_v0_ = v;
   double tau = 0;
   if (a > 0 && std::isfinite(a)) {
     const double stopping = v * v / (2 * a);
@@ -246,6 +280,7 @@ void Motion::stop(int64_t now) {
   head_ = position();  // where the head stopped, between steps as likely as not
   running_ = decel_ = false;
   queue_.clear();
+  planner_.sync();
   for (int i = 0; i < 3; ++i) planner_steps_[i] = std::lround(head_[i] * settings_.steps_per_mm(i));
   idle_ = Output{};
   hold_beam_off_ = false;

@@ -1,18 +1,26 @@
 // The motion side of the laser emulator: GRBL's 16-block planner (15 usable) and a stepper
-// that moves the head through the blocks at constant speed, with the laser output it drives.
+// that moves the head through the blocks with GRBL's acceleration, with the laser output it
+// drives.
 //
-// Simplifications (documented for users of the emulator): no acceleration between blocks (each
-// block runs at its nominal speed: F, or for G0 the fastest rate $110/$111 allow along its
-// direction), except that a feed hold decelerates at the $120/$121 limit along the block
-// (capped at the block's end). Durations are multiplied by `time_scale`.
+// Planning is GRBL 1.1h's (algorithms/laser/motion_planner.h, the same model the time
+// estimates use): per-axis rates and accelerations ($110-112, $120-122) along each block,
+// junction speeds from the junction deviation $11, nominal-speed caps, and the exit speed
+// planner_recalculate() allows over the blocks queued behind (the last one must be able to
+// stop). A block that arrives while the head runs replans the running one from where it is,
+// as GRBL's stepper picks up a new plan; a block pushed into an empty planner starts from rest.
+// Each block runs as a trapezoid (accelerate, cruise, decelerate). A feed hold decelerates at
+// the block's acceleration from the speed the head has (capped at the block's end); a resume
+// starts the rest of the block from rest. Not modelled: the stepper's 8 ms segments.
 // Laser rules (laser mode, DISABLE_LASER_DURING_HOLD as in stock 1.1h): a block's output is its
 // (M3|M4, S) with S = 0 for G0; M4 power scales with actual/programmed speed, so it is off
-// whenever the head stands still; M3 keeps its last power while stopped (set by the last block
-// or a spindle sync); a completed feed hold turns the beam off until resumed; a stop
-// (reset, alarm) turns it off.
+// whenever the head stands still and lighter where the head accelerates; M3 keeps its last
+// power while stopped (set by the last block or a spindle sync); a completed feed hold turns
+// the beam off until resumed; a stop (reset, alarm) turns it off. The record gets one piece per
+// phase of a block (accelerating, cruising, decelerating), so M4's power is exact per piece
+// (the speed is linear in time within one).
 // Positions: machine mm; block ends are quantised to whole steps ($100..$102) as GRBL does.
-// Times: nanoseconds on the controller's steady clock. Segments and beam_off events go into
-// the Record passed in (not owned; must outlive the Motion).
+// Times: nanoseconds on the controller's steady clock; durations multiplied by `time_scale`.
+// Segments and beam_off events go into the Record passed in (not owned; must outlive the Motion).
 // Threading: one thread.
 #pragma once
 
@@ -21,6 +29,7 @@
 #include <deque>
 #include <optional>
 
+#include "algorithms/laser/motion_planner.h"
 #include "tools/laser_emu/gcode.h"
 #include "tools/laser_emu/record.h"
 #include "tools/laser_emu/settings.h"
@@ -31,7 +40,8 @@ struct Block {
   Vec3 start{}, end{};  // mm
   double length = 0;    // mm
   double rate = 0;      // nominal speed, mm/min
-  double accel = 0;     // deceleration limit along the block, mm/s^2
+  double accel = 0;     // acceleration limit along the block, mm/s^2
+  laser::PlannerBlock plan;  // as plan_buffer_line() made it (junction limit)
   Spindle spindle = Spindle::off;
   double s = 0;         // 0: laser off for this block
 };
@@ -78,6 +88,11 @@ class Motion {
     double programmed_rate = 0, speed = 0;  // for M4 scaling, mm/min
   };
   double distance_at(int64_t t) const;    // along the current block
+  // Plans the front block from d0_ on (its remaining length) at entry speed `entry_mm_min`,
+  // from time `now`, with the blocks behind it in the queue.
+  void profile_front(int64_t now, double entry_mm_min);
+  // Ends of the front block's phases (accelerate, cruise, decelerate) on the clock.
+  int64_t phase_end(int phase) const;
   double speed_at(int64_t t) const;       // mm/min
   Output output_at(int64_t t) const;
   double power_of(const Output& o) const;  // 0..1
@@ -97,11 +112,16 @@ class Motion {
 
   bool running_ = false;
   int64_t now_ = 0;
-  // Current block: distance d0 at time t0, nominal speed, optional deceleration.
+  laser::BlockPlanner planner_;
+  // Current block: distance d0 at time t0, then its profile over the rest (prof_), or a hold's
+  // deceleration from decel_v0_.
   int64_t t0_ = 0;
   double d0_ = 0;
+  laser::MoveProfile prof_;
+  int phase_ = 0;          // 0 accelerating, 1 cruising, 2 decelerating
   bool decel_ = false;
   double decel_a_ = 0;     // mm/s^2
+  double decel_v0_ = 0;    // mm/s when the hold began
   int64_t stop_t_ = 0;
   double stop_d_ = 0;
 
