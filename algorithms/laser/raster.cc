@@ -275,48 +275,4 @@ RasterJob raster_gcode(const Grid<int>& power, const std::vector<ScanLine>& line
   return job;
 }
 
-namespace {
-
-// Rest to rest over `len` mm, cruising at most at `feed_mm_min`.
-double trapezoid_s(double len, double feed_mm_min, double a) {
-  if (len <= 0) return 0;
-  const double v = feed_mm_min / 60.0;
-  const double ramp = v * v / a;  // accelerating plus braking distance
-  if (len >= ramp) return 2 * v / a + (len - ramp) / v;
-  return 2 * std::sqrt(len / a);
-}
-
-}  // namespace
-
-double raster_seconds(const std::vector<RasterMove>& moves, const Machine& m) {
-  if (!(m.accel_mm_s2 > 0) || !(m.travel_mm_min > 0)) throw PlanError("acceleration and travel speed must be above 0");
-  double total = 0;
-  Point at{0, 0};
-  for (size_t i = 0; i < moves.size();) {
-    const RasterMove& mv = moves[i];
-    if (mv.rapid) {
-      total += trapezoid_s(std::hypot(mv.x - at.x, mv.y - at.y), m.travel_mm_min, m.accel_mm_s2);
-      at = Point{mv.x, mv.y};
-      ++i;
-      continue;
-    }
-    // A run of G1 moves on one horizontal line in one direction at one feed.
-    const double dir = mv.x >= at.x ? 1 : -1;
-    const Point start = at;
-    size_t j = i;
-    while (j < moves.size() && !moves[j].rapid && moves[j].y == start.y &&
-           moves[j].feed_mm_min == mv.feed_mm_min && (moves[j].x - at.x) * dir >= 0) {
-      at.x = moves[j].x;
-      ++j;
-    }
-    if (j == i) {  // not horizontal: a lone move
-      at = Point{mv.x, mv.y};
-      j = i + 1;
-    }
-    total += trapezoid_s(std::hypot(at.x - start.x, at.y - start.y), mv.feed_mm_min, m.accel_mm_s2);
-    i = j;
-  }
-  return total;
-}
-
 }  // namespace atelier::laser

@@ -119,6 +119,7 @@ struct RasterJob {
   double scan_length_mm = 0;   // every G1 (burns, S0 gaps, overscan)
   double travel_length_mm = 0; // G0, from bed (0, 0)
   std::vector<RasterMove> moves;   // every move in order, for the time estimate
+                                   // (motion_planner.h move_seconds)
   bool overscan_clipped = false;   // a row's overscan ran into the work area's edge
 };
 
@@ -127,12 +128,5 @@ struct RasterJob {
 RasterJob raster_gcode(const Grid<int>& power, const std::vector<ScanLine>& lines,
                        const RasterPlacement& place, const RasterMotion& motion,
                        const Machine& machine, const std::string& comment);
-
-// Seconds the program takes, starting and ending at rest: each G0 and each straight run of
-// G1 moves along one line (a scan line: its moves meet at 0 degrees, so GRBL's planner keeps
-// the speed through them) accelerates at accel_mm_s2 up to its feed and back to rest at its
-// end (a trapezoid, or a triangle when too short). Scan lines reverse at their ends, where
-// GRBL stops too; so for raster programs this is GRBL's own timing to within the junctions.
-double raster_seconds(const std::vector<RasterMove>& moves, const Machine& machine);
 
 }  // namespace atelier::laser

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "algorithms/laser/motion_planner.h"
 #include "algorithms/laser/raster.h"
 #include "convert/common/display_text.h"
 #include "convert/common/image_input.h"
@@ -88,6 +89,27 @@ cv::Mat render_preview(const std::vector<laser::ScanLine>& lines,
   return out;
 }
 
+// GRBL's planner model (contract D) with the [laser] motion settings: both axes at the
+// travel rate and acceleration, the junction deviation as given.
+double estimate_seconds(const std::vector<laser::RasterMove>& moves, const laser::Machine& m) {
+  laser::MotionSettings ms;
+  ms.max_rate_mm_min[0] = ms.max_rate_mm_min[1] = m.travel_mm_min;
+  ms.accel_mm_s2[0] = ms.accel_mm_s2[1] = m.accel_mm_s2;
+  ms.junction_deviation_mm = m.junction_deviation_mm;
+  std::vector<laser::PlannedMove> planned;
+  planned.reserve(moves.size());
+  for (const laser::RasterMove& mv : moves) {
+    laser::PlannedMove p;
+    p.target = {mv.x, mv.y, 0};
+    p.feed_mm_min = mv.feed_mm_min;
+    p.rapid = mv.rapid;
+    planned.push_back(p);
+  }
+  double total = 0;
+  for (double s : laser::move_seconds(planned, ms)) total += s;
+  return total;
+}
+
 }  // namespace
 
 ConvertResult convert_engrave(const ConvertRequest& req) {
@@ -141,7 +163,7 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
                                 "mm/min " + laser::format_number(p.min_power_pct) + "-" +
                                 laser::format_number(p.max_power_pct) + "%";
     job = laser::raster_gcode(power, lines, place, motion, m, comment);
-    estimated_s = laser::raster_seconds(job.moves, m);
+    estimated_s = estimate_seconds(job.moves, m);
   } catch (const laser::PlanError& e) {
     throw ConvertError(name + ": " + e.what());
   }

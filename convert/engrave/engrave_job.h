@@ -12,7 +12,8 @@
 //                clearly marks, as on wood; the laser emulator's --render uses the same
 //                model), drawn finely and averaged down to the output dpi
 //   report.json  dpi, line interval, dithering, power range, gamma, size, position, bounds,
-//                overscan, estimated time, G-code lines and bytes, and the streaming rate
+//                overscan, estimated time (GRBL's planner, motion_planner.h, with the [laser]
+//                motion settings), G-code lines and bytes, and the streaming rate
 //                they need (lines and bytes per second of burning)
 // Not thread-safe per request; separate requests may run concurrently.
 #pragma once

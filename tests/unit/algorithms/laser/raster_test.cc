@@ -232,24 +232,5 @@ TEST(RasterGcode, AJobOutsideTheWorkAreaOrWithNothingToBurnIsRefused) {
                PlanError);
 }
 
-TEST(RasterTiming, ScanLinesAccelerateOnceAndTheirRunsKeepTheSpeed) {
-  Machine m;
-  m.accel_mm_s2 = 500;
-  m.travel_mm_min = 6000;
-  // 100 mm at 50 mm/s from rest to rest: 0.1 s up and 0.1 s down over 5 mm, 95 mm at speed.
-  const std::vector<RasterMove> one{{100, 0, 3000, false}};
-  EXPECT_NEAR(raster_seconds(one, m), 0.2 + 95.0 / 50, 1e-9);
-  // The same line cut into 100 runs (S changes) takes as long: no stop at their junctions.
-  std::vector<RasterMove> many;
-  for (int i = 1; i <= 100; ++i) many.push_back({double(i), 0, 3000, false});
-  EXPECT_NEAR(raster_seconds(many, m), raster_seconds(one, m), 1e-9);
-  // Back again is a new line: it stops and accelerates again.
-  many.push_back({0, 0, 3000, false});
-  EXPECT_NEAR(raster_seconds(many, m), 2 * raster_seconds(one, m), 1e-9);
-  // A short G0 never reaches the travel speed: 2 sqrt(d / a).
-  const std::vector<RasterMove> hop{{0, 2, 0, true}};
-  EXPECT_NEAR(raster_seconds(hop, m), 2 * std::sqrt(2.0 / 500), 1e-9);
-}
-
 }  // namespace
 }  // namespace atelier::laser
