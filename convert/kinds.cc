@@ -6,6 +6,8 @@
 #include "convert/common/param_table.h"
 #include "convert/cut/cut_job.h"
 #include "convert/embroidery/embroidery_job.h"
+#include "convert/engrave/engrave_job.h"
+#include "convert/engrave/engrave_params.h"
 #include "convert/embroidery/embroidery_params.h"
 #include "convert/knit/knit_job.h"
 #include "convert/knit/knit_params.h"
@@ -70,6 +72,13 @@ std::vector<KindInfo> make_kinds() {
                .resolve_config_paths = resolve_sketch_config_paths,
                .machine_input = MachineInput::gcode,
                .machine_file = kSketchGcodeFile,
+               .drivers = {{kGrblDriver, true}}});
+  k.push_back({.name = "engrave",
+               .input = KindInput::image,
+               .validate = [](const toml::table& t, const std::string& s) { read_engrave_params(t, s); },
+               .convert = convert_engrave,
+               .machine_input = MachineInput::gcode,
+               .machine_file = kEngraveGcodeFile,
                .drivers = {{kGrblDriver, true}}});
   return k;
 }

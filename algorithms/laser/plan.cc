@@ -14,18 +14,11 @@ namespace {
 constexpr size_t kMaxLine = 70;
 constexpr double kEpsilon = 1e-6;  // mm; absorbs rounding at the edges of the work area
 
-// Design (x right, y down) -> machine coordinates; see plan.h.
-Point to_machine(Point p, const Machine& m) {
-  bool right = m.origin == Origin::front_right || m.origin == Origin::rear_right;
-  bool front = m.origin == Origin::front_left || m.origin == Origin::front_right;
-  return Point{right ? p.x - m.width_mm : p.x, front ? m.height_mm - p.y : -p.y};
-}
+// Design (x right, y down) -> bed coordinates (Y from the front edge); see plan.h.
+Point to_machine(Point p, const Machine& m) { return Point{p.x, m.height_mm - p.y}; }
 
-Point machine_zero_in_design(const Machine& m) {
-  bool right = m.origin == Origin::front_right || m.origin == Origin::rear_right;
-  bool front = m.origin == Origin::front_left || m.origin == Origin::front_right;
-  return Point{right ? m.width_mm : 0, front ? m.height_mm : 0};
-}
+// Bed (0, 0), where the head is assumed to start, in design coordinates.
+Point machine_zero_in_design(const Machine& m) { return Point{0, m.height_mm}; }
 
 // Writes G-code lines and remembers the modal state, so that unchanged axes and feeds are
 // not repeated (every byte costs streaming time).
@@ -106,7 +99,7 @@ void check_work_area(const Bounds& design, const Machine& m) {
                   range(mb.min_y, mb.max_y) + " mm, outside the " + format_number(m.width_mm) +
                   " x " + format_number(m.height_mm) + " mm work area (X " +
                   range(area.min_x, area.max_x) + ", Y " + range(area.min_y, area.max_y) +
-                  " with the origin " + origin_name(m.origin) + ")");
+                  " in bed coordinates)");
 }
 
 // The program's header: the comments the driver reads (s_max, bounds), then units and mode.
@@ -121,16 +114,6 @@ void write_header(GcodeWriter& g, const Machine& machine, const Bounds& bounds) 
 }  // namespace
 
 const char* mode_name(Mode mode) { return mode == Mode::cut ? "cut" : "engrave"; }
-
-const char* origin_name(Origin origin) {
-  switch (origin) {
-    case Origin::front_left: return "front-left";
-    case Origin::rear_left: return "rear-left";
-    case Origin::front_right: return "front-right";
-    case Origin::rear_right: return "rear-right";
-  }
-  return "?";
-}
 
 std::string format_number(double value) {
   char buf[64];

@@ -2,18 +2,16 @@
 // G-code (laser mode, $32=1), with statistics and a time estimate.
 //
 // Coordinates. Input paths are in "design" coordinates as drawn in an SVG: x to the right,
-// y DOWN, origin at the top-left (rear-left) corner of the bed, in mm. The G-code uses machine
-// coordinates, chosen by where the machine's origin (its homing corner) is:
-//   front_left:  X = x,         Y = height - y   (Y up, 0 at the front; the usual diode laser)
-//   rear_left:   X = x,         Y = -y
-//   front_right: X = x - width, Y = height - y
-//   rear_right:  X = x - width, Y = -y
-// (GRBL machines homed at the rear and/or right work in negative coordinates.) In every case
-// X grows to the right and Y towards the rear, and the work area is [0, width] x [0, height]
-// in design coordinates. The head is assumed to start at machine (0, 0).
+// y DOWN, origin at the top-left (rear-left) corner of the bed, in mm. The G-code is always in
+// bed coordinates: X = x (mm from the bed's left edge), Y = height - y (mm from its FRONT
+// edge), so (0, 0) is the bed's front-left corner and the work area is [0, width] x
+// [0, height] in both. Where the job lands on the machine (its homing corner, negative
+// machine space, a user origin or the head's position) is the driver's business at run time
+// (`start_from` = bed | origin | here), not the program's. The head is assumed to start at
+// bed (0, 0).
 //
 // G-code. Header comments the driver reads (`; atelier laser job`, `; s_max=N`,
-// `; bounds=minX,minY,maxX,maxY` in machine mm over every beam-on point), `G21 G90`, then per
+// `; bounds=minX,minY,maxX,maxY` in bed mm over every beam-on point), `G21 G90`, then per
 // layer a comment and `M4 S<power>` (dynamic power: the beam follows the actual speed and is
 // off whenever the head stops), `G0` travel (beam off in laser mode), `G1` burns with F only
 // when it changes; `M5` last. Numbers have at most 3 decimals; lines are <= 70 characters.
@@ -55,14 +53,12 @@ struct Layer {
   std::vector<Path> paths;  // design coordinates (see above)
 };
 
-enum class Origin { front_left, rear_left, front_right, rear_right };
-const char* origin_name(Origin origin);  // "front-left", ...
-
 struct Machine {
   double width_mm = 400, height_mm = 400;
   double s_max = 1000;          // GRBL $30: S at full power
-  Origin origin = Origin::front_left;
-  double travel_mm_min = 6000;  // G0 speed, for the time estimate only
+  double travel_mm_min = 6000;  // G0 speed (GRBL's max rate $110/$111), for the time estimate
+  double accel_mm_s2 = 500;     // GRBL $120/$121, for the time estimate
+  double junction_deviation_mm = 0.010;  // GRBL $11, for the time estimate
 };
 
 struct LayerStats {
@@ -77,17 +73,17 @@ struct LayerStats {
 
 struct PlannedLayer {
   LayerSettings settings;
-  std::vector<Path> paths;  // machine coordinates, burn order, kerf applied; one pass each
+  std::vector<Path> paths;  // bed coordinates, burn order, kerf applied; one pass each
 };
 
 struct Job {
   std::string gcode;
-  Bounds bounds;                     // machine coordinates of every beam-on point
+  Bounds bounds;                     // bed coordinates of every beam-on point
   std::vector<LayerStats> layers;    // non-empty layers, in burn order
   std::vector<PlannedLayer> toolpaths;  // parallel to `layers`
   double cut_length_mm = 0;          // burned, all passes
   double engrave_length_mm = 0;      // burned, all passes
-  double travel_length_mm = 0;       // G0, from machine (0, 0) on
+  double travel_length_mm = 0;       // G0, from bed (0, 0) on
   double estimated_s = 0;            // length / feed per move; ignores acceleration
 };
 

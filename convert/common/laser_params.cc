@@ -21,13 +21,6 @@ laser::LayerSettings default_layer(const std::string& name, const std::string& c
   return s;
 }
 
-laser::Origin origin_from_name(const std::string& name) {
-  if (name == "rear-left") return laser::Origin::rear_left;
-  if (name == "front-right") return laser::Origin::front_right;
-  if (name == "rear-right") return laser::Origin::rear_right;
-  return laser::Origin::front_left;
-}
-
 laser::LayerSettings read_layer(const toml::table& table, const std::string& source,
                                 const std::string& section) {
   TableReader r(table, source, section);
@@ -94,11 +87,23 @@ LaserParams read_laser_params(const toml::table& table, const std::string& sourc
     p.machine.height_mm = v[1];
   }
   p.machine.s_max = r.get_double("s_max", p.machine.s_max, 1, 100000);
-  p.machine.origin = origin_from_name(r.get_choice(
-      "origin", "front-left", {"front-left", "rear-left", "front-right", "rear-right"}));
+  // Looked up on the table itself, not through the reader: the key is no setting any more (the
+  // config test lists the keys readers ask for), only refused with its reason.
+  if (const toml::node* origin = table.get("origin")) {
+    throw ParamError(where(*origin, source) +
+                     "key 'laser.origin': is no longer read: jobs are written in bed "
+                     "coordinates (0, 0 = the bed's front-left corner) and the driver places them when a job starts, by its "
+                     "start_from = \"bed\" | \"origin\" | \"here\" (sidecar [laser] key or "
+                     "`atelierctl start ID --start-from`); remove the key");
+  }
   p.machine.travel_mm_min = r.get_double("travel_mm_min", p.machine.travel_mm_min, 1, 100000);
+  p.machine.accel_mm_s2 = r.get_double("acceleration_mm_s2", p.machine.accel_mm_s2, 1, 100000);
+  p.machine.junction_deviation_mm =
+      r.get_double("junction_deviation_mm", p.machine.junction_deviation_mm, 0.001, 1);
   p.tolerance_mm = r.get_double("tolerance_mm", p.tolerance_mm, 0.001, 1);
   p.check_first = r.get_bool("check_first", p.check_first);
+  // Read by the driver when the job starts (contract B); checked here so a typo fails early.
+  p.start_from = r.get_choice("start_from", p.start_from, {"bed", "origin", "here"});
   if (const toml::array* layers = r.get_array("layer")) {
     for (size_t i = 0; i < layers->size(); ++i) {
       const toml::table* t = layers->get(i)->as_table();

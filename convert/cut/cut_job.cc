@@ -37,7 +37,7 @@ struct Preview {
   double px_per_mm = kPreviewPxPerMm;
 };
 
-// Machine coordinates have X right and Y towards the rear for every origin, so the image
+// Bed coordinates have X right and Y towards the rear, so the image
 // shows the bed as seen from above with the front at the bottom.
 Preview render_preview(const laser::Job& job, const laser::Machine& m) {
   laser::Bounds view = job.bounds;
@@ -58,10 +58,8 @@ Preview render_preview(const laser::Job& job, const laser::Machine& m) {
     return cv::Point(static_cast<int>(std::lround((q.x - view.min_x) * s * (1 << kShift))),
                      static_cast<int>(std::lround((view.max_y - q.y) * s * (1 << kShift))));
   };
-  // The work area's corners in machine coordinates: X from -width or 0, Y from -height or 0.
-  bool right = m.origin == laser::Origin::front_right || m.origin == laser::Origin::rear_right;
-  bool front = m.origin == laser::Origin::front_left || m.origin == laser::Origin::front_right;
-  laser::Point area_lo{right ? -m.width_mm : 0, front ? 0 : -m.height_mm};
+  // The work area in bed coordinates: [0, width] x [0, height].
+  laser::Point area_lo{0, 0};
   laser::Point area_hi{area_lo.x + m.width_mm, area_lo.y + m.height_mm};
   cv::rectangle(p.image, px({area_lo.x, area_hi.y}), px({area_hi.x, area_lo.y}),
                 cv::Scalar(255, 255, 255), cv::FILLED, cv::LINE_8, kShift);
@@ -200,7 +198,7 @@ ConvertResult convert_cut(const ConvertRequest& req) {
                     {"max_x", round3(job.bounds.max_x)},
                     {"max_y", round3(job.bounds.max_y)}};
   r["work_area_mm"] = {lp.machine.width_mm, lp.machine.height_mm};
-  r["origin"] = laser::origin_name(lp.machine.origin);
+  r["coordinates"] = "bed";  // X from the bed's left edge, Y from its front edge
   r["s_max"] = lp.machine.s_max;
   r["ignored_unstroked"] = unstroked;
   // e.g. {"text": 2}: convert text to paths (Inkscape: Path > Object to Path) to burn it.

@@ -6,7 +6,7 @@
 // Each stroked shape goes to the layer configured for its stroke colour (like LightBurn's
 // colour layers); shapes without a stroke are not burned and counted as ignored_unstroked.
 // Writes into request.output_dir, each file atomically (temporary name, then rename):
-//   job.gcode    the program (algorithms/laser/plan.h), machine coordinates
+//   job.gcode    the program (algorithms/laser/plan.h), bed coordinates
 //   preview.png  the work area around the job (5 mm margin) at 10 px/mm (less for very
 //                large jobs, see report preview_px_per_mm), each layer's paths in its colour;
 //                white is inside the work area, grey outside; travel is not drawn

@@ -313,7 +313,7 @@ json write_target(const Target& t, const parquetry::Plan& plan,
                                {"max_x", round3(program.bounds.max_x)},
                                {"max_y", round3(program.bounds.max_y)}}},
                 {"work_area_mm", {m.width_mm, m.height_mm}},
-                {"origin", laser::origin_name(m.origin)},
+                {"coordinates", "bed"},
                 {"s_max", m.s_max},
                 {"cut_kerf_mm", layers.cut.kerf_mm}};
   r["sheets_order"] = sheets_order;

@@ -41,7 +41,7 @@ TEST(Kinds, EveryKindCanBeValidatedAndConverted) {
 TEST(Kinds, DriversTakeTheKindsTheirMachinesRun) {
   EXPECT_EQ(kinds_for_driver("ayab"), (std::vector<std::string>{"knit", "lace"}));
   EXPECT_EQ(kinds_for_driver("ayab", true), (std::vector<std::string>{"knit"}));
-  EXPECT_EQ(kinds_for_driver("grbl"), (std::vector<std::string>{"cut", "parquetry", "sketch"}));
+  EXPECT_EQ(kinds_for_driver("grbl"), (std::vector<std::string>{"cut", "parquetry", "sketch", "engrave"}));
   EXPECT_EQ(kinds_for_driver("file-drop"), (std::vector<std::string>{"embroidery"}));
   EXPECT_TRUE(kinds_for_driver("plotter").empty());
   for (const std::string& k : kinds_for_driver("grbl"))
@@ -91,8 +91,9 @@ bool in_kind_folder(const std::string& rel) {
 
 // Literals that spell a kind's name but mean something else; each with its reason.
 bool allowed(const std::string& rel, const std::string& literal) {
-  // The laser's layer modes (`mode = "cut" | "engrave"`) are settings, not job kinds.
-  return literal == "\"cut\"" &&
+  // The laser's layer modes (`mode = "cut" | "engrave"`) are settings, not job kinds (both
+  // words are kinds too since the engrave kind came).
+  return (literal == "\"cut\"" || literal == "\"engrave\"") &&
          (rel == "convert/common/laser_params.cc" || rel == "algorithms/laser/plan.cc");
 }
 

@@ -223,13 +223,12 @@ TEST(LaserGcode, NearestNeighbourShortensTravel) {
   // A 6 x 6 grid of small squares in shuffled order.
   std::vector<Path> shapes;
   for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) shapes.push_back(square(10 + 30 * i, 10 + 30 * j, 10));
+    for (int j = 0; j < 6; ++j) shapes.push_back(square(10 + 30 * i, 230 + 30 * j, 10));
   std::mt19937 rng(7);
   std::shuffle(shapes.begin(), shapes.end(), rng);
-  Machine m;
-  m.origin = Origin::rear_left;  // head starts at design (0, 0)
+  Machine m;  // the head starts at bed (0, 0): design (0, 400), beside the grid's corner
   double input_order = 0;
-  Point at{0, 0};
+  Point at{0, 400};
   for (const auto& s : shapes) {
     input_order += distance(at, s.points.front());
     at = s.points.front();
@@ -240,38 +239,28 @@ TEST(LaserGcode, NearestNeighbourShortensTravel) {
   EXPECT_EQ(job.layers[0].paths, 36u);
 }
 
-TEST(LaserGcode, OriginsMapDesignCoordinates) {
+// Contract A: the program is in bed coordinates (X from the left edge, Y from the front edge)
+// whatever the machine's homing corner; the driver places the job at run time.
+TEST(LaserGcode, BedCoordinatesMapDesignCoordinates) {
   Layer l = layer("c", Mode::cut, {square(10, 20, 5)});
   Machine m;
   m.width_mm = 300;
   m.height_mm = 200;
-  struct Case {
-    Origin origin;
-    const char* bounds;
-  } cases[] = {{Origin::front_left, "; bounds=10,175,15,180"},
-               {Origin::rear_left, "; bounds=10,-25,15,-20"},
-               {Origin::front_right, "; bounds=-290,175,-285,180"},
-               {Origin::rear_right, "; bounds=-290,-25,-285,-20"}};
-  for (const auto& c : cases) {
-    m.origin = c.origin;
-    auto lines = lines_of(plan_job({l}, m).gcode);
-    EXPECT_EQ(lines[2], c.bounds) << origin_name(c.origin);
-  }
-  m.origin = Origin::rear_right;
+  auto lines = lines_of(plan_job({l}, m).gcode);
+  EXPECT_EQ(lines[2], "; bounds=10,175,15,180");
   try {
     plan_job({layer("c", Mode::cut, {square(290, 20, 20)})}, m);
     FAIL() << "no PlanError";
   } catch (const PlanError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("X -10..10 mm"));
-    EXPECT_THAT(e.what(), HasSubstr("(X -300..0, Y -200..0 with the origin rear-right)"));
+    EXPECT_THAT(e.what(), HasSubstr("X 290..310 mm"));
+    EXPECT_THAT(e.what(), HasSubstr("(X 0..300, Y 0..200 in bed coordinates)"));
   }
 }
 
 TEST(LaserGcode, TimeEstimateFollowsFeeds) {
-  Layer l = layer("c", Mode::cut, {Path{{{0, 100}, {10, 100}}, false}});
+  Layer l = layer("c", Mode::cut, {Path{{{0, 300}, {10, 300}}, false}});
   l.settings.speed_mm_min = 600;
-  Machine m;
-  m.origin = Origin::rear_left;  // head at design (0, 0): 100 mm of travel
+  Machine m;  // head at bed (0, 0) = design (0, 400): 100 mm of travel
   m.travel_mm_min = 6000;
   Job job = plan_job({l}, m);
   EXPECT_NEAR(job.travel_length_mm, 100, 1e-9);
@@ -306,7 +295,6 @@ TEST(LaserGcode, EveryNumberFitsGrblsReader) {
   Machine m;
   m.width_mm = m.height_mm = 5000;
   m.s_max = 100000;
-  m.origin = Origin::rear_right;  // negative coordinates
   Layer l = layer("cut", Mode::cut, {square(0.0004, 0.0004, 4999.999), Path{{{1234.5678, 4321.8765}, {2.5, 4999.9999}}, false}});
   l.settings.speed_mm_min = 100000;
   l.settings.power_pct = 100;

@@ -31,7 +31,8 @@ TEST(LaserParams, DefaultsAreLightBurnLike) {
   LaserParams p = parse("");
   EXPECT_DOUBLE_EQ(p.machine.width_mm, 400);
   EXPECT_DOUBLE_EQ(p.machine.s_max, 1000);
-  EXPECT_EQ(p.machine.origin, laser::Origin::front_left);
+  EXPECT_DOUBLE_EQ(p.machine.accel_mm_s2, 500);
+  EXPECT_DOUBLE_EQ(p.machine.junction_deviation_mm, 0.010);
   EXPECT_FALSE(p.check_first);
   ASSERT_EQ(p.layers.size(), 3u);
   EXPECT_EQ(p.layers[0].color, "#000000");
@@ -49,10 +50,12 @@ TEST(LaserParams, ReadsEveryKey) {
   LaserParams p = parse(R"([laser]
 work_area_mm = [300, 200.5]
 s_max = 255
-origin = "rear-right"
 travel_mm_min = 3000
+acceleration_mm_s2 = 800
+junction_deviation_mm = 0.02
 tolerance_mm = 0.02
 check_first = true
+start_from = "here"
 [[laser.layer]]
 color = "#F0A"
 name = "pink engrave"
@@ -67,10 +70,12 @@ kerf_mm = 0.15
   EXPECT_DOUBLE_EQ(p.machine.width_mm, 300);
   EXPECT_DOUBLE_EQ(p.machine.height_mm, 200.5);
   EXPECT_DOUBLE_EQ(p.machine.s_max, 255);
-  EXPECT_EQ(p.machine.origin, laser::Origin::rear_right);
+  EXPECT_DOUBLE_EQ(p.machine.accel_mm_s2, 800);
+  EXPECT_DOUBLE_EQ(p.machine.junction_deviation_mm, 0.02);
   EXPECT_DOUBLE_EQ(p.machine.travel_mm_min, 3000);
   EXPECT_DOUBLE_EQ(p.tolerance_mm, 0.02);
   EXPECT_TRUE(p.check_first);
+  EXPECT_EQ(p.start_from, "here");
   ASSERT_EQ(p.layers.size(), 2u) << "configured layers replace the defaults";
   EXPECT_EQ(p.layers[0].color, "#ff00aa");
   EXPECT_EQ(p.layers[0].name, "pink engrave");
@@ -86,8 +91,15 @@ kerf_mm = 0.15
 }
 
 TEST(LaserParams, ErrorsNameFileLineAndKey) {
-  EXPECT_THAT(error_of("[laser]\norigin = \"middle\"\n"),
-              HasSubstr("atelierd.toml:2: key 'laser.origin': 'middle' is not one of"));
+  // Contract A: the driver places jobs now; the old key is refused, saying how.
+  EXPECT_THAT(error_of("[laser]\norigin = \"rear-right\"\n"),
+              HasSubstr("atelierd.toml:2: key 'laser.origin': is no longer read"));
+  EXPECT_THAT(error_of("[laser]\norigin = \"front-left\"\n"),
+              HasSubstr("start_from = \"bed\" | \"origin\" | \"here\""));
+  EXPECT_THAT(error_of("[laser]\nstart_from = \"home\"\n"),
+              HasSubstr("atelierd.toml:2: key 'laser.start_from'"));
+  EXPECT_THAT(error_of("[laser]\nacceleration_mm_s2 = 0\n"),
+              HasSubstr("atelierd.toml:2: key 'laser.acceleration_mm_s2'"));
   EXPECT_THAT(error_of("[laser]\nwork_area_mm = [400]\n"),
               HasSubstr("atelierd.toml:2: key 'laser.work_area_mm'"));
   EXPECT_THAT(error_of("[laser]\nspeed = 3\n"), HasSubstr("unknown key 'laser.speed'"));
