@@ -106,13 +106,7 @@ bool KnitDevice::autostarts(const Job& job) const {
 
 KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOptions& options,
                                                  bool check_row) const {
-  const std::string tag = job_tag(job.id);
-  JobStart own;
-  try {
-    own = read_job_start(job);
-  } catch (const std::exception& e) {
-    throw BadInput(tag + ": " + e.what());
-  }
+  const JobStart own = read_job_start(job);
   ChosenStart out;
   const ayab::MachineType machine = *ayab::machine_from_name(config_.machine);
   const int needles = ayab::needle_count(machine);
@@ -122,14 +116,14 @@ KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOpti
     std::string problem;
     out.start_needle = parse_bed_needle(*needle_text, needles, &problem);
     if (!out.start_needle)
-      throw BadInput(tag + ": " + needle_from + *needle_text + " is not a needle of the " + config_.machine +
+      throw BadInput(needle_from + *needle_text + " is not a needle of the " + config_.machine +
                      " (" + config_.name + "): " + problem);
   }
   JobPlan sized;  // at needle 0 (fits whenever the pattern is not wider than the bed): rows, width
   try {
     sized = plan_job(job, 0);
   } catch (const std::exception& e) {
-    throw CannotPlan(tag + ": " + e.what());
+    throw CannotPlan(e.what());
   }
   const bool lace = is_lace(job.kind);
   const int rows = sized.rows();
@@ -137,14 +131,14 @@ KnitDevice::ChosenStart KnitDevice::choose_start(const Job& job, const StartOpti
   const std::string row_from = options.from_row ? "--from-row " : "start_row ";
   if (check_row && row) {
     if (*row < 1 || *row > rows)
-      throw BadInput(tag + ": " + row_from + std::to_string(*row) + " is outside the " +
+      throw BadInput(row_from + std::to_string(*row) + " is outside the " +
                      (lace ? "chart" : "pattern") + " (rows 1 to " + std::to_string(rows) + ")");
     out.from_row = *row;
   }
   const int width = sized.plan.stop_needle - sized.plan.start_needle + 1;
   if (out.start_needle && *out.start_needle + width > needles) {
     const int last = needles - width;  // the rightmost needle the pattern may start on
-    throw BadInput(tag + ": " + needle_from + *needle_text + " puts the " + (lace ? "lace's " : "pattern's ") +
+    throw BadInput(needle_from + *needle_text + " puts the " + (lace ? "lace's " : "pattern's ") +
                    std::to_string(width) + " stitches on needles " + bed_needle_name(*out.start_needle, needles) +
                    " to " + bed_needle_name(*out.start_needle + width - 1, needles) + ", off the " +
                    config_.machine + "'s bed (" + bed_needle_name(0, needles) + " to " +
@@ -164,6 +158,8 @@ void KnitDevice::accept_start(const Job& job, const StartOptions& options) {
     chosen = choose_start(job, options);
   } catch (const CannotPlan&) {
     // Armed all the same: knit() fails it before the port opens, with the plan's reason.
+  } catch (const std::exception& e) {
+    throw BadInput(job_tag(job.id) + ": " + e.what());
   }
   std::lock_guard lock(mu_);
   starts_[job.id] = std::move(chosen);
@@ -303,11 +299,8 @@ std::optional<KnitDevice::Work> KnitDevice::next_work() {
       } catch (const CannotPlan&) {
         chosen = ChosenStart{};  // knit() fails it with the plan's own reason
       } catch (const std::exception& e) {
-        // "job 12: start_needle ..." said by the device, as its other failures are.
-        const std::string tag = job_tag(job.id) + ": ";
-        std::string why = e.what();
-        if (why.rfind(tag, 0) == 0) why.erase(0, tag.size());
-        work.refused = config_.name + ": " + why;
+        // "kh930: start_needle ..." said by the device, as its other failures are.
+        work.refused = config_.name + ": " + e.what();
         return "knitting on " + config_.name;
       }
     }

@@ -83,8 +83,9 @@ class KnitDevice : public DeviceWorker {
   };
   // `atelierctl start` options over the job's own keys (convert/common/job_start.h), checked
   // against its plan; `check_row` false ignores the row (a resume names its own). Throws
-  // BadInput "job 12: ..." naming the values: a row outside the pattern, a needle that is
-  // not on the bed or puts the pattern off it, an unreadable sidecar.
+  // BadInput naming the values (untagged: each caller says whose job it is): a row outside
+  // the pattern, a needle that is not on the bed or puts the pattern off it, an unreadable
+  // sidecar; CannotPlan (a BadInput) when the job cannot be planned at all.
   ChosenStart choose_start(const Job& job, const StartOptions& options, bool check_row = true) const;
   void accept_start(const Job& job, const StartOptions& options) override;
   void forget_requests() override { starts_.clear(); }

@@ -23,6 +23,7 @@
 #include "tests/e2e/daemon_harness.h"
 #include "tests/support/carriage_firmware.h"
 #include "tests/support/job_watch.h"
+#include "tests/support/knitter_config.h"
 #include "tests/support/lace_test_charts.h"
 #include "tests/support/log_capture.h"
 #include "tests/support/simulated_knitter.h"
@@ -92,13 +93,7 @@ struct JobOnDevice {
   // `resume_from` resumes an interrupted job from that chart row first; the job is canceled
   // once `cancel_when` says so (asked each time the machine has knitted a row).
   Job run(test::SimulatedKnitter& machine, int resume_from = 0, const std::function<bool()>& cancel_when = {}) {
-    DeviceConfig d;
-    d.name = "knitter";
-    d.driver = "ayab";
-    d.port = "/dev/ttyKNIT";
-    d.machine = "kh930";
-    d.kinds = {"knit", "lace"};
-    d.autostart = true;
+    const DeviceConfig d = test::knitter_device_config(/*autostart=*/true);
     KnitDevice device(
         d, jobs, [&machine](const std::string&) { return machine.open(); },
         [port = d.port]() -> std::optional<std::string> { return port; }, {}, clock);
@@ -123,13 +118,7 @@ struct JobOnDevice {
 
 // The same on a machine behind `open` (a fresh board each time, e.g. CarriageFirmware).
 Job run_on(JobOnDevice& rig, const KnitDevice::Opener& open, int resume_from = 0) {
-  DeviceConfig d;
-  d.name = "knitter";
-  d.driver = "ayab";
-  d.port = "/dev/ttyKNIT";
-  d.machine = "kh930";
-  d.kinds = {"knit", "lace"};
-  d.autostart = true;
+  const DeviceConfig d = test::knitter_device_config(/*autostart=*/true);
   KnitDevice device(d, rig.jobs, open, [port = d.port]() -> std::optional<std::string> { return port; }, {},
                     rig.clock);
   rig.device_now = &device;

@@ -20,6 +20,7 @@
 #include "drivers/ayab/lace_plan.h"
 #include "tests/e2e/daemon_harness.h"
 #include "tests/support/job_watch.h"
+#include "tests/support/knitter_config.h"
 #include "tests/support/lace_test_charts.h"
 #include "tests/support/simulated_knitter.h"
 
@@ -43,15 +44,8 @@ struct StartRig {
   test::JobWatch watch{clock};
   JobService jobs{store, layout, watch.listener()};
   test::SimulatedKnitter machine{clock, 2};
-  DeviceConfig config = [] {
-    DeviceConfig d;
-    d.name = "knitter";
-    d.driver = "ayab";
-    d.port = "/dev/ttyKNIT";
-    d.machine = "kh930";
-    d.kinds = {"knit", "lace"};
-    return d;  // autostart as a [[device]] without the key: no
-  }();
+  // autostart as a [[device]] without the key: no
+  DeviceConfig config = test::knitter_device_config(/*autostart=*/false);
   std::unique_ptr<KnitDevice> device;
 
   StartRig() { jobs.ensure_layout(); }
