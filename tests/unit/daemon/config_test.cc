@@ -156,7 +156,7 @@ TEST(Config, ALaserWaitsForTheOperatorAndTakesOnlyLaserKinds) {
   ASSERT_EQ(c.devices.size(), 1u);
   EXPECT_FALSE(c.devices[0].autostart);
   // Every laser kind this build converts.
-  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"cut", "parquetry", "sketch"}));
+  EXPECT_EQ(c.devices[0].kinds, (std::vector<std::string>{"cut", "parquetry", "sketch", "engrave"}));
   EXPECT_EQ(c.devices[0].streaming, "character-counting");
   EXPECT_FALSE(c.laser_check_first);
 
