@@ -261,7 +261,7 @@ void LaserDevice::forget_requests() {
 }
 
 std::string LaserDevice::held_text(int64_t job_id, size_t acked, size_t total) {
-  return "held at " + line_count(acked, total) + " (feed hold, beam off); `atelierctl resume " +
+  return "held at " + line_count(acked, total) + ": feed hold, beam off; `atelierctl resume " +
          std::to_string(job_id) + "` continues";
 }
 

@@ -79,7 +79,7 @@ class LaserDevice : public DeviceWorker {
   void abort_running() override;
   void forget_requests() override;
   void run_job(int64_t id);
-  // "held at line 27 of 115 (feed hold, beam off); `atelierctl resume ID` continues"
+  // "held at line 27 of 115: feed hold, beam off; `atelierctl resume ID` continues"
   static std::string held_text(int64_t job_id, size_t acked, size_t total);
   // The job's start keys (sidecar [laser] and `--start-from`) with the device's defaults.
   struct JobPlacement {

@@ -138,7 +138,7 @@ TEST(E2EAtelierctl, ALaserJobTellsTheOperatorWhatHappensAsItHappens) {
 
   r = ctl(daemon, {"hold", id});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("running, held"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("running (held at line "), std::string::npos) << r.out;
   r = ctl(daemon, {"devices"});
   EXPECT_NE(r.out.find("held"), std::string::npos) << r.out;
   // Held long enough that the progress after it comes in a later second than the one before.

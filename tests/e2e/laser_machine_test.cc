@@ -195,6 +195,17 @@ double cancel_mid_job(LaserRig& rig, const std::string& name, int min_done, std:
     auto j = rig.job(name);
     return j["state"] == "running" && j["progress"]["done"].get<int>() >= min_done;
   }, std::chrono::seconds(30))) << rig.job(name).dump();
+  // Lines are acknowledged as the planner takes them, long before the head gets there (a
+  // travel at 10 mm/s^2 takes seconds): wait for the emulator's record (saved every 0.5 s
+  // while it moves) to show the beam burning.
+  EXPECT_TRUE(rig.daemon->wait_for([&] {
+    std::ifstream in(rig.record);
+    const json rec = json::parse(in, nullptr, false);
+    if (rec.is_discarded()) return false;
+    for (const auto& s : rec["segments"])
+      if (burned(s)) return true;
+    return false;
+  }, std::chrono::seconds(30))) << rig.job(name).dump();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
 
   const double asked = now_s();
