@@ -68,7 +68,7 @@ TEST(E2EEngrave, APhotoIsBurnedAsThePreviewShowsForDitheredAndGreyscalePower) {
                              tmp.path() / "emu.log");
   for (int i = 0; i < 100 && !fs::exists(link); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   // 30 mm wide at 127 dpi (0.2 mm dots) and 0.2 mm lines: 150 x 108 dots each.
-  DaemonProcess daemon(tmp.path(), "[engrave]\nwidth_mm = 30\ndpi = 127\nline_interval_mm = 0.2\n"
+  DaemonProcess daemon(tmp.path(), "[engrave]\nwidth_mm = 20\ndpi = 127\nline_interval_mm = 0.2\n"
                                    "[laser]\nwork_area_mm = [150, 150]\n"
                                    "[[device]]\nname = \"laser\"\ndriver = \"grbl\"\nport = \"" + link.string() +
                                        "\"\nkinds = [\"engrave\"]\n");
@@ -90,7 +90,7 @@ TEST(E2EEngrave, APhotoIsBurnedAsThePreviewShowsForDitheredAndGreyscalePower) {
     reports.push_back(json::parse(std::ifstream(done / "report.json")));
     EXPECT_EQ(reports.back()["dither"], e.dither);
     previews.push_back(cv::imread((done / "preview.png").string(), cv::IMREAD_GRAYSCALE));
-    ASSERT_EQ(previews.back().cols, 150) << "30 mm at 127 dpi";
+    ASSERT_EQ(previews.back().cols, 100) << "20 mm at 127 dpi";
     // A laser job waits for the operator; started, it burns.
     ASSERT_TRUE(daemon.request("start", {{"id", job["id"]}})["ok"]);
     ASSERT_TRUE(daemon.wait_job_state(e.name, "completed", std::chrono::seconds(240)))
