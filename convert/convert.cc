@@ -6,12 +6,22 @@
 #include <opencv2/core.hpp>
 #include <stdexcept>
 
+#include "convert/common/output_files.h"
 #include "convert/kinds.h"
+#include "convert/report_file.h"
 
 namespace atelier {
 
 void report_progress(const ConvertRequest& req, double fraction) {
   if (req.progress) req.progress(std::clamp(fraction, 0.0, 1.0));
+}
+
+ConvertResult finish_report(const ConvertRequest& req, const std::filesystem::path& out,
+                            const nlohmann::ordered_json& report, ConvertResult result) {
+  write_output(out / report_file_name(), report.dump(2) + "\n");
+  report_progress(req, 1.0);
+  result.report = nlohmann::json::parse(report.dump());
+  return result;
 }
 
 ConvertResult convert(const ConvertRequest& request) {

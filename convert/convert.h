@@ -53,6 +53,12 @@ struct ConvertResult {
 // Tells the request's progress callback (if any) the fraction done, clamped to [0, 1].
 void report_progress(const ConvertRequest& req, double fraction);
 
+// The last step of a single-target kind: writes `report` into `out` as report.json
+// (report_file_name(), indented, one trailing newline), reports progress 1 and returns
+// `result` with the report kept in it (the daemon logs and stores that copy).
+ConvertResult finish_report(const ConvertRequest& req, const std::filesystem::path& out,
+                            const nlohmann::ordered_json& report, ConvertResult result);
+
 // Runs the conversion and writes every output of the kind plus report.json.
 // Throws ConvertError (bad input), ParamError (bad parameters).
 ConvertResult convert(const ConvertRequest& request);

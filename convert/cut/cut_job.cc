@@ -207,11 +207,7 @@ ConvertResult convert_cut(const ConvertRequest& req) {
   r["gcode_lines"] = std::count(job.gcode.begin(), job.gcode.end(), '\n');
   r["preview_px_per_mm"] = round3(preview.px_per_mm);
   r["outputs"] = result.outputs;
-  write_output(out / "report.json", r.dump(2) + "\n");
-  report_progress(req, 1.0);
-
-  result.report = nlohmann::json::parse(r.dump());
-  return result;
+  return finish_report(req, out, r, std::move(result));
 }
 
 }  // namespace atelier

@@ -222,10 +222,7 @@ ConvertResult convert_engrave(const ConvertRequest& req) {
                  {"link_bytes_per_s", kLinkBytesPerS}};
   r["preview_px_per_mm"] = round3(p.dpi / 25.4);
   r["outputs"] = result.outputs;
-  write_output(out / "report.json", r.dump(2) + "\n");
-  report_progress(req, 1.0);
-  result.report = nlohmann::json::parse(r.dump());
-  return result;
+  return finish_report(req, out, r, std::move(result));
 }
 
 }  // namespace atelier

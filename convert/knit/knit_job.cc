@@ -236,11 +236,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   timer.done("report");
   r["timings_ms"] = timer.json();
   r["outputs"] = result.outputs;
-  write_output(out / "report.json", r.dump(2) + "\n");
-  report_progress(req, 1.0);
-
-  result.report = nlohmann::json::parse(r.dump());
-  return result;
+  return finish_report(req, out, r, std::move(result));
 }
 
 }  // namespace atelier

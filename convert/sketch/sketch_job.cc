@@ -271,10 +271,7 @@ ConvertResult convert_sketch(const ConvertRequest& req) {
   r["work_area_mm"] = {p.laser.machine.width_mm, p.laser.machine.height_mm};
   r["timings_ms"] = {{"edges", edges_ms}, {"drawing", draw_ms}, {"total", ms_since(start)}};
   r["outputs"] = result.outputs;
-  write_output(out / "report.json", r.dump(2) + "\n");
-  report_progress(req, 1.0);
-  result.report = nlohmann::json::parse(r.dump());
-  return result;
+  return finish_report(req, out, r, std::move(result));
 }
 
 }  // namespace atelier
