@@ -16,6 +16,7 @@
 #include "convert/convert.h"
 #include "convert/kinds.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/support/convert_kind.h"
 
 namespace atelier {
 namespace {
@@ -28,13 +29,7 @@ const fs::path kData = fs::path(ATELIER_TEST_DATA);
 class ConvertEngraveTest : public ::testing::Test {
  protected:
   ConvertResult run(const fs::path& input, const std::string& params_toml = "", const std::string& out = "out") {
-    ConvertRequest req;
-    req.kind = "engrave";
-    req.input = input;
-    req.params = toml::parse(params_toml, std::string_view{"test.toml"});
-    validate_kind_params("engrave", req.params, "test.toml");
-    req.output_dir = dir_ / out;
-    return convert(req);
+    return test::convert_kind("engrave", input, params_toml, dir_ / out);
   }
   std::string error_of(const std::string& params_toml) {
     try {

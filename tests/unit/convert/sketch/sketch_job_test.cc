@@ -13,6 +13,7 @@
 #include "convert/convert.h"
 #include "convert/kinds.h"
 #include "tests/e2e/daemon_harness.h"
+#include "tests/support/convert_kind.h"
 #include "convert/common/param_table.h"
 #include "convert/sketch/pencil_profile_file.h"
 #include "drivers/grbl/program.h"
@@ -28,13 +29,7 @@ const fs::path kData = fs::path(ATELIER_TEST_DATA);
 class ConvertSketchTest : public ::testing::Test {
  protected:
   ConvertResult run(const fs::path& input, const std::string& params_toml = "", const std::string& out = "out") {
-    ConvertRequest req;
-    req.kind = "sketch";
-    req.input = input;
-    req.params = toml::parse(params_toml, std::string_view{"test.toml"});
-    validate_kind_params("sketch", req.params, "test.toml");
-    req.output_dir = dir_ / out;
-    return convert(req);
+    return test::convert_kind("sketch", input, params_toml, dir_ / out);
   }
   test::TempDir tmp_;
   const fs::path dir_ = tmp_.path();
