@@ -58,8 +58,10 @@
 // Alarm (printing "[MSG:'$H'|'$X' to unlock]") if it was in an alarm, else runs the startup lines. A reset at Hold:0 keeps the position and
 // gives Idle: GRBL's way to abort without losing position.
 // "$J=" jogging (jog.c, gcode.c): from Idle or Jog (else error:8); G1 and G94 enforced, F
-// required (error:22), S/T error:36, other commands than G20/G21 G90/G91 G53 error:16, a target
-// beyond the soft limits error:15 (no alarm). Answered once queued; state Jog while it runs
+// required (error:22), S/T error:36, other commands than G20/G21 G90/G91 G53 error:16, each
+// where gcode.c checks it (word errors first, 16 last); a target beyond the soft limits error:15
+// (no alarm). Without axis words the target is machine 0,0,0 (gcode.c never fills it). The
+// jog carries the parser's spindle and S: with M3 on a laser burns while jogging. Answered once queued; state Jog while it runs
 // (G-code then error:9); the parser's modes stay, its position follows the jog. 0x85 (or "!")
 // while jogging decelerates, flushes the planner and gives Idle with the position kept.
 // Alarms: soft limits ($20=1, system_check_travel_limits()): machine space is -$13x..0 per
