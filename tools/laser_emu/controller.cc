@@ -5,16 +5,28 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace atelier::laser_emu {
 namespace {
 
 enum : int {
   kOk = 0, kBadNumberFormat = 2, kInvalidStatement = 3, kSettingDisabled = 5, kIdleError = 8,
-  kSystemGcLock = 9, kOverflow = 11, kTravelExceeded = 15, kInvalidJogCommand = 16,
-  kUndefinedFeedRate = 22, kUnusedWords = 36,
+  kSystemGcLock = 9, kOverflow = 11, kTravelExceeded = 15,
 };
-constexpr uint8_t kCmdJogCancel = 0x85;
+constexpr uint8_t kCmdSafetyDoor = 0x84, kCmdJogCancel = 0x85;
+// Override flags (system.h EXEC_*_OVR_*), in the order protocol_exec_rt_system() applies them.
+enum : unsigned {
+  kFeedReset = 1, kFeedCoarsePlus = 2, kFeedCoarseMinus = 4, kFeedFinePlus = 8, kFeedFineMinus = 16,
+  kRapidReset = 32, kRapidMedium = 64, kRapidLow = 128,
+};
+enum : unsigned {
+  kSpindleReset = 1, kSpindleCoarsePlus = 2, kSpindleCoarseMinus = 4, kSpindleFinePlus = 8,
+  kSpindleFineMinus = 16, kSpindleStop = 32, kFloodToggle = 64,
+};
+// sys.spindle_stop_ovr (system.h SPINDLE_STOP_OVR_*).
+enum : unsigned { kStopInitiate = 1, kStopEnabled = 2, kStopRestore = 4, kStopRestoreCycle = 8 };
+constexpr double kDoorSpindleDelayS = 4.0, kDoorCoolantDelayS = 1.0;  // SAFETY_DOOR_*_DELAY
 constexpr int kAlarmHardLimit = 1, kAlarmSoftLimit = 2, kAlarmAbortCycle = 3, kAlarmHomingReset = 6;
 constexpr int kPending = -1;  // system_command(): the line stays under way ($H)
 constexpr int kHomingLocateCycles = 1;     // N_HOMING_LOCATE_CYCLE (config.h)
@@ -88,9 +100,30 @@ void Controller::receive_byte(uint8_t c) {
     case '~': cycle_start(); return;
     case 0x18: soft_reset(); return;
     case kCmdJogCancel: jog_cancel(); return;
+    case kCmdSafetyDoor: safety_door(); return;
     default: break;
   }
-  if (c >= 0x80) return;  // extended real-time commands: not emulated, never buffered
+  if (c >= 0x80) {  // the other extended real-time commands only set flags; never buffered
+    switch (c) {
+      case 0x90: motion_ovr_flags_ |= kFeedReset; break;
+      case 0x91: motion_ovr_flags_ |= kFeedCoarsePlus; break;
+      case 0x92: motion_ovr_flags_ |= kFeedCoarseMinus; break;
+      case 0x93: motion_ovr_flags_ |= kFeedFinePlus; break;
+      case 0x94: motion_ovr_flags_ |= kFeedFineMinus; break;
+      case 0x95: motion_ovr_flags_ |= kRapidReset; break;
+      case 0x96: motion_ovr_flags_ |= kRapidMedium; break;
+      case 0x97: motion_ovr_flags_ |= kRapidLow; break;
+      case 0x99: accessory_ovr_flags_ |= kSpindleReset; break;
+      case 0x9A: accessory_ovr_flags_ |= kSpindleCoarsePlus; break;
+      case 0x9B: accessory_ovr_flags_ |= kSpindleCoarseMinus; break;
+      case 0x9C: accessory_ovr_flags_ |= kSpindleFinePlus; break;
+      case 0x9D: accessory_ovr_flags_ |= kSpindleFineMinus; break;
+      case 0x9E: accessory_ovr_flags_ |= kSpindleStop; break;
+      case 0xA0: accessory_ovr_flags_ |= kFloodToggle; break;
+      default: break;  // 0xA1 (mist, ENABLE_M7) and unassigned bytes are thrown away
+    }
+    return;
+  }
   if (static_cast<int>(rx_.size()) >= kRxBufferSize - 1) {
     if (!critical_) {
       ++record_.rx_overflows;
@@ -101,6 +134,7 @@ void Controller::receive_byte(uint8_t c) {
     }
   } else {
     rx_.push_back(c);
+    ++rx_pushed_;
     if (static_cast<int>(rx_.size()) > record_.max_rx_bytes) {
       record_.max_rx_bytes = static_cast<int>(rx_.size());
       ++record_.version;
@@ -138,6 +172,7 @@ std::optional<int64_t> Controller::next_event_us() const {
   if (dwell_until_) next = std::min(next, *dwell_until_);
   if (alarm_report_until_) next = std::min(next, *alarm_report_until_);
   if (homing_until_) next = std::min(next, *homing_until_);
+  if (door_restore_until_) next = std::min(next, *door_restore_until_);
   if (!tx_.empty()) next = std::min(next, static_cast<int64_t>(std::ceil(tx_head_ns_)));
   if (next == std::numeric_limits<int64_t>::max()) return std::nullopt;
   return (std::max(next, now_) + 999) / 1000;
@@ -157,13 +192,23 @@ void Controller::advance_motion(int64_t t) {
       motion_.stop(now_);
       gc_.position = motion_.position();
       state_ = MachineState::idle;
+      if (door_after_jog_) {  // SUSPEND_SAFETY_DOOR_AJAR: the door opened during the cancel
+        door_after_jog_ = false;
+        state_ = MachineState::door;
+        hold_complete_ = true;
+        door_stopped();
+      }
     } else if (soft_limit_stop_) {
       soft_limit_stop_ = false;
       state_ = MachineState::idle;
       raise_alarm(kAlarmSoftLimit);
     } else {
       hold_complete_ = true;
-      motion_.set_hold_beam_off(now_, true);  // DISABLE_LASER_DURING_HOLD
+      if (door_after_jog_) {  // unreachable here (jogs end above); kept for clarity
+        door_after_jog_ = false;
+      }
+      if (state_ == MachineState::door) door_stopped();
+      else spindle_stop_step();  // DISABLE_LASER_DURING_HOLD: the beam goes off now
     }
   } else if (state_ == MachineState::run || state_ == MachineState::jog) {
     state_ = MachineState::idle;  // cycle stop: the planner ran dry
@@ -180,6 +225,7 @@ void Controller::advance_to(int64_t now_us) {
     // has seen them (it may still be blocked for another reason, e.g. a feed hold).
     if (dwell_until_ && *dwell_until_ > now_) next = std::min(next, *dwell_until_);
     if (homing_until_ && *homing_until_ > now_) next = std::min(next, *homing_until_);
+    if (door_restore_until_) next = std::min(next, std::max(*door_restore_until_, now_));
     if (alarm_report_until_) next = std::min(next, std::max(*alarm_report_until_, now_));
     if (tx_blocked_ && tx_.size() > static_cast<size_t>(kTxBufferSize)) {
       const auto unblock = static_cast<int64_t>(
@@ -194,18 +240,26 @@ void Controller::advance_to(int64_t now_us) {
       incoming_.pop_front();
       receive_byte(c);
     }
+    if (door_restore_until_ && now_ >= *door_restore_until_) finish_door_restore();
     run_main();
   }
   advance_motion(std::max(target, now_));
   if (alarm_report_until_ && now_ >= *alarm_report_until_) end_alarm_report();
+  if (door_restore_until_ && now_ >= *door_restore_until_) finish_door_restore();
   run_main();
 }
 
 // ---------------------------------------------------------------- main loop
 
 void Controller::run_main() {
+  // protocol_execute_realtime(): overrides flagged by the ISR are applied whenever the main
+  // loop polls - not while it is stuck writing to a full TX buffer, homing or in an alarm.
+  if ((motion_ovr_flags_ || accessory_ovr_flags_) && !halted_ && !critical_ && state_ != MachineState::home &&
+      tx_backlog() <= static_cast<size_t>(kTxBufferSize))
+    apply_overrides();
   for (;;) {
-    if (halted_ || critical_ || state_ == MachineState::hold || state_ == MachineState::sleep || soft_limit_stop_)
+    if (halted_ || critical_ || state_ == MachineState::hold || state_ == MachineState::sleep ||
+        state_ == MachineState::door || soft_limit_stop_)
       return;
     tx_blocked_ = tx_backlog() > static_cast<size_t>(kTxBufferSize);
     if (tx_blocked_) return;
@@ -302,6 +356,8 @@ void Controller::respond(int status) {
     // real-time commands run until a reset.
     sleep_after_response_ = false;
     motion_.stop(now_);
+    set_flood(false);
+    ovr_counter_ = 0;
     state_ = MachineState::sleep;
     emit("[MSG:Sleeping]\r\n");
   }
@@ -350,7 +406,7 @@ bool Controller::run_actions() {
           auto_cycle_start();
           return false;
         }
-        if (!motion_.push(a.target, a.feed, a.rapid, a.inverse_time, a.spindle, a.s) &&
+        if (!motion_.push(a.target, a.feed, a.rapid, a.inverse_time, a.spindle, a.s, /*no_feed_override=*/jog_line_) &&
             settings_.laser_mode() && a.spindle == Spindle::cw) {
           // An empty block in M3 still syncs the laser to the block's power (mc_line()).
           a.kind = Action::Kind::spindle;
@@ -367,11 +423,13 @@ bool Controller::run_actions() {
       }
       case Action::Kind::sync:
         if (!wait_sync()) return false;
+        if (!check) set_flood(gc_.flood);  // coolant_sync() (M8/M9), or another sync: no change
         break;
       case Action::Kind::spindle:
         if (check) break;
         if (!wait_sync()) return false;
         motion_.set_spindle(now_, a.spindle, a.s);
+        ovr_counter_ = 0;  // spindle_set_state(): overrides in the next report
         break;
       case Action::Kind::dwell:
         if (check) break;
@@ -390,7 +448,12 @@ bool Controller::run_actions() {
         break;
       case Action::Kind::program_end:
         if (!wait_sync()) return false;
-        if (!check) motion_.set_spindle(now_, Spindle::off, 0);
+        if (!check) {
+          motion_.set_spindle(now_, Spindle::off, 0);
+          set_flood(false);
+          ovr_counter_ = 0;
+          wco_counter_ = 0;  // system_flag_wco_change(): WCO in the next report
+        }
         emit("[MSG:Pgm End]\r\n");
         break;
       case Action::Kind::pause:
@@ -443,7 +506,7 @@ int Controller::system_command(const std::string& line) {
         if (state_ == MachineState::run || state_ == MachineState::hold) return kIdleError;
         emit(settings_.listing());
         return kOk;
-      case 'G': emit(gc_.modes_report() + "\r\n"); return kOk;
+      case 'G': emit(gc_.modes_report(settings_.get(13) != 0) + "\r\n"); return kOk;
       case 'C':
         if (state_ == MachineState::check) {
           emit("[MSG:Disabled]\r\n");
@@ -555,10 +618,15 @@ int Controller::system_command(const std::string& line) {
         double index = 0;
         if (!read_grbl_float(line, pos, index)) return kBadNumberFormat;
         if (pos >= line.size() || line[pos++] != '=') return kInvalidStatement;
-        // GRBL stores any index (past the two lines' EEPROM slots); only 0 and 1 are kept here.
-        const int n = static_cast<int>(std::trunc(index));
-        if (index < 0 || n > 1) return kInvalidStatement;
-        return store_startup_line(n, line.substr(pos));
+        // GRBL checks the line and stores it at any index (uint8 of trunc(index)), past the two
+        // lines' EEPROM slots too; only $N0 and $N1 are listed and run, so here another index is
+        // checked, answered and forgotten.
+        const double n = std::trunc(index);
+        if (n != 0 && n != 1) {
+          GcState scratch = gc_;
+          return execute_gcode_line(line.substr(pos), scratch, settings_).status;
+        }
+        return store_startup_line(static_cast<int>(n), line.substr(pos));
       }
     default: break;
   }
@@ -575,24 +643,80 @@ int Controller::system_command(const std::string& line) {
 
 void Controller::feed_hold() {
   if (critical_ || state_ == MachineState::alarm || state_ == MachineState::check ||
-      state_ == MachineState::home || state_ == MachineState::sleep)
+      state_ == MachineState::home || state_ == MachineState::sleep || state_ == MachineState::door)
     return;
   if (state_ == MachineState::jog) return jog_cancel();  // a hold cancels a jog
-  if (state_ == MachineState::run) {
-    record_.add_event(epoch(now_), "hold");
-    state_ = MachineState::hold;
-    hold_complete_ = false;
-    motion_.hold(now_);
-  } else if (state_ == MachineState::idle) {
-    record_.add_event(epoch(now_), "hold");
-    state_ = MachineState::hold;
-    hold_complete_ = true;
-    motion_.set_hold_beam_off(now_, true);
+  if (state_ != MachineState::run && state_ != MachineState::idle) return;
+  record_.add_event(epoch(now_), "hold");
+  const bool moving = state_ == MachineState::run;
+  state_ = MachineState::hold;
+  hold_complete_ = !moving;
+  // protocol_exec_rt_suspend(), DISABLE_LASER_DURING_HOLD: in laser mode a spindle stop is
+  // requested as the hold begins; it acts once the head has stopped.
+  if (settings_.laser_mode() && spindle_stop_ == 0) spindle_stop_ = kStopInitiate;
+  if (moving) motion_.hold(now_);
+  else spindle_stop_step();
+}
+
+void Controller::spindle_stop_step() {
+  // protocol_exec_rt_suspend(), a completed hold outside a door: the spindle stop override.
+  if (state_ != MachineState::hold || !hold_complete_) return;
+  if (spindle_stop_ & kStopInitiate) {
+    if (gc_.spindle != Spindle::off) {
+      motion_.set_hold_beam_off(now_, true);  // spindle_set_state(SPINDLE_DISABLE)
+      ovr_counter_ = 0;
+      spindle_stop_ = kStopEnabled;
+    } else {
+      spindle_stop_ = 0;
+    }
+  } else if (spindle_stop_ & (kStopRestore | kStopRestoreCycle)) {
+    const bool cycle = spindle_stop_ & kStopRestoreCycle;
+    if (gc_.spindle != Spindle::off) {
+      emit("[MSG:Restoring spindle]\r\n");
+      const bool laser = settings_.laser_mode();
+      if (cycle && laser) {
+        // STEP_CONTROL_UPDATE_SPINDLE_PWM and the resume: the stepper sets the power with the
+        // next block; standing still the beam stays off.
+        motion_.set_spindle(now_, gc_.spindle, 0);
+      } else {
+        // spindle_set_state(restore): the held block's power, or the parser's S without one
+        // (a laser's M4 forced to 0).
+        if (motion_.blocks() == 0)
+          motion_.set_spindle(now_, gc_.spindle, laser && gc_.spindle == Spindle::ccw ? 0.0 : gc_.s);
+        ovr_counter_ = 0;
+      }
+      motion_.set_hold_beam_off(now_, false);
+    }
+    spindle_stop_ = 0;
+    if (cycle) cycle_start();
   }
 }
 
 void Controller::cycle_start() {
   if (critical_) return;
+  if (state_ == MachineState::door) {
+    // The door reads closed: once retracted, "~" restores (Door:3), then resumes.
+    if (!door_retracted_ || door_restore_until_) return;
+    double delay_s = 0;
+    if (gc_.spindle != Spindle::off && !settings_.laser_mode()) {
+      motion_.set_hold_beam_off(now_, false);  // spindle_set_state(restore), then its delay
+      ovr_counter_ = 0;
+      delay_s += kDoorSpindleDelayS;
+    }
+    if (gc_.flood) {
+      set_flood(true);
+      delay_s += kDoorCoolantDelayS;
+    }
+    door_restore_until_ = now_ + static_cast<int64_t>(delay_s * opt_.time_scale * 1e9);
+    if (delay_s == 0) finish_door_restore();
+    return;
+  }
+  if (state_ == MachineState::hold && hold_complete_ && !soft_limit_stop_ && spindle_stop_) {
+    // A spindle stopped in the hold is restored first ("[MSG:Restoring spindle]"), then resumed.
+    spindle_stop_ |= kStopRestoreCycle;
+    spindle_stop_step();
+    return;
+  }
   if (state_ == MachineState::hold && hold_complete_ && !soft_limit_stop_) {
     record_.add_event(epoch(now_), "resume");
     hold_complete_ = false;
@@ -602,6 +726,120 @@ void Controller::cycle_start() {
   } else if (state_ == MachineState::idle) {
     auto_cycle_start();
   }
+}
+
+void Controller::apply_overrides() {
+  // protocol_exec_rt_system(): all flags pending since the last poll at once, in uint8
+  // arithmetic as GRBL does, then clamped.
+  if (const unsigned f = std::exchange(motion_ovr_flags_, 0u)) {
+    uint8_t feed = static_cast<uint8_t>(feed_ovr_);
+    if (f & kFeedReset) feed = 100;
+    if (f & kFeedCoarsePlus) feed += 10;
+    if (f & kFeedCoarseMinus) feed -= 10;
+    if (f & kFeedFinePlus) feed += 1;
+    if (f & kFeedFineMinus) feed -= 1;
+    feed = std::clamp<uint8_t>(feed, 10, 200);
+    int rapid = rapid_ovr_;
+    if (f & kRapidReset) rapid = 100;
+    if (f & kRapidMedium) rapid = 50;
+    if (f & kRapidLow) rapid = 25;
+    if (feed != feed_ovr_ || rapid != rapid_ovr_) {
+      feed_ovr_ = feed;
+      rapid_ovr_ = rapid;
+      ovr_counter_ = 0;
+      motion_.set_feed_overrides(now_, feed_ovr_ / 100.0, rapid_ovr_ / 100.0);
+    }
+  }
+  if (const unsigned f = std::exchange(accessory_ovr_flags_, 0u)) {
+    uint8_t sp = static_cast<uint8_t>(spindle_ovr_);
+    if (f & kSpindleReset) sp = 100;
+    if (f & kSpindleCoarsePlus) sp += 10;
+    if (f & kSpindleCoarseMinus) sp -= 10;
+    if (f & kSpindleFinePlus) sp += 1;
+    if (f & kSpindleFineMinus) sp -= 1;
+    sp = std::clamp<uint8_t>(sp, 10, 200);
+    if (sp != spindle_ovr_) {
+      spindle_ovr_ = sp;
+      motion_.set_spindle_override(now_, spindle_ovr_ / 100.0);
+      // Idle: spindle_set_state(modal spindle, S) at once - in laser mode with M3 that turns
+      // the beam on at S while standing still, as the real one does (M4 is forced to 0).
+      if (state_ == MachineState::idle && gc_.spindle != Spindle::off)
+        motion_.set_spindle(now_, gc_.spindle,
+                            settings_.laser_mode() && gc_.spindle == Spindle::ccw ? 0.0 : gc_.s);
+      ovr_counter_ = 0;
+    }
+    if ((f & kSpindleStop) && state_ == MachineState::hold) {  // only in a hold
+      if (spindle_stop_ == 0) spindle_stop_ = kStopInitiate;
+      else if (spindle_stop_ & kStopEnabled) spindle_stop_ |= kStopRestore;
+      spindle_stop_step();
+    }
+    if ((f & kFloodToggle) && (state_ == MachineState::idle || state_ == MachineState::run ||
+                               state_ == MachineState::hold || state_ == MachineState::jog)) {
+      gc_.flood = !gc_.flood;  // the parser's modal state follows (M8/M9 in $G)
+      set_flood(gc_.flood);
+      ovr_counter_ = 0;
+    }
+  }
+}
+
+void Controller::set_flood(bool on) {
+  if (on == flood_on_) return;
+  flood_on_ = on;
+  ovr_counter_ = 0;  // coolant_set_state(): overrides (and A:F) in the next report
+}
+
+void Controller::safety_door() {
+  // protocol_exec_rt_system(), EXEC_SAFETY_DOOR (no door switch: it reads closed at once).
+  if (critical_ || state_ == MachineState::alarm || state_ == MachineState::check ||
+      state_ == MachineState::home || soft_limit_stop_)
+    return;
+  emit("[MSG:Check Door]\r\n");
+  if (state_ == MachineState::sleep) return;
+  record_.add_event(epoch(now_), "door");
+  if (state_ == MachineState::jog) {  // the jog is cancelled first, then the door takes over
+    door_after_jog_ = true;
+    jog_cancel();
+    return;
+  }
+  if (state_ == MachineState::door) {
+    if (door_restore_until_) {  // re-opened while restoring: retract again
+      door_restore_until_.reset();
+      door_stopped();
+    }
+    return;
+  }
+  const bool moving = motion_.running();
+  state_ = MachineState::door;
+  door_retracted_ = false;
+  if (moving) {
+    if (!motion_.decelerating()) motion_.hold(now_);
+    hold_complete_ = false;
+  } else {
+    hold_complete_ = true;
+    door_stopped();
+  }
+}
+
+void Controller::door_stopped() {
+  // The door's hold is complete: spindle (laser) and coolant off, ready to restore ("Door:0").
+  spindle_stop_ = 0;
+  motion_.set_hold_beam_off(now_, true);
+  set_flood(false);
+  ovr_counter_ = 0;
+  door_retracted_ = true;
+}
+
+void Controller::finish_door_restore() {
+  // SUSPEND_RESTORE_COMPLETE and a cycle start: Idle, and the program resumes if it was moving.
+  door_restore_until_.reset();
+  door_retracted_ = false;
+  hold_complete_ = false;
+  // A laser's power comes back with the next block (the stepper sets it); nothing at rest.
+  if (settings_.laser_mode()) motion_.set_spindle(now_, gc_.spindle, 0);
+  motion_.set_hold_beam_off(now_, false);
+  record_.add_event(epoch(now_), "resume");
+  state_ = MachineState::idle;
+  auto_cycle_start();
 }
 
 void Controller::raise_alarm(int code) {
@@ -666,32 +904,14 @@ void Controller::soft_reset() {
 }
 
 int Controller::jog_command(const std::string& line) {
-  // gcode.c with GC_PARSER_JOG_MOTION: G1 and G94 enforced, F required (error:22), S and T
-  // unused words (error:36), only G20/G21, G90/G91 and G53 besides axis words, F and N
-  // (error:16). The parser's modes are left as they were; only its position follows the jog.
-  const std::string words = line.substr(3);
-  bool has_f = false, has_s_or_t = false, other_command = false;
-  for (size_t pos = 0; pos < words.size();) {
-    const char letter = words[pos++];
-    double value = 0;
-    if (!read_grbl_float(words, pos, value)) break;  // the parser below reports it
-    if (letter == 'F') has_f = true;
-    if (letter == 'S' || letter == 'T') has_s_or_t = true;
-    if (letter == 'M' || (letter == 'G' && value != 20 && value != 21 && value != 90 && value != 91 && value != 53))
-      other_command = true;
-  }
-  // These come before the parser's other checks here (GRBL checks repeated words, negative
-  // values and modal conflicts among the line's own words first).
-  if (!has_f) return kUndefinedFeedRate;
-  if (has_s_or_t) return kUnusedWords;
-  if (other_command) return kInvalidJogCommand;
+  // gcode.c with GC_PARSER_JOG_MOTION (every check where gcode.c makes it), then jog_execute():
+  // a target beyond the soft limits is error:15, no alarm. The parser's modes stay as they
+  // were; only its position follows the jog.
   GcState scratch = gc_;
-  LineResult r = execute_gcode_line("G1G94" + words, scratch, settings_);
+  LineResult r = execute_gcode_line(line.substr(3), scratch, settings_, /*jog=*/true);
   if (r.status != kOk) return r.status;
   actions_.clear();
   for (const Action& a : r.actions) {
-    if (a.kind != Action::Kind::line) continue;
-    // jog_execute(): a target beyond the soft limits is refused, no alarm.
     if (settings_.soft_limits() && outside_limits(a.target)) return kTravelExceeded;
     actions_.push_back(a);
     gc_.position = a.target;
@@ -772,6 +992,15 @@ void Controller::reinitialise(bool announce) {
   soft_limit_stop_ = false;
   jog_line_ = jog_cancel_ = false;
   wco_counter_ = ovr_counter_ = 0;
+  // main(): sys is cleared (overrides back to 100 %, flags dropped), coolant_init().
+  motion_ovr_flags_ = accessory_ovr_flags_ = 0;
+  if (feed_ovr_ != 100 || rapid_ovr_ != 100) motion_.set_feed_overrides(now_, 1, 1);
+  if (spindle_ovr_ != 100) motion_.set_spindle_override(now_, 1);
+  feed_ovr_ = rapid_ovr_ = spindle_ovr_ = 100;
+  flood_on_ = false;
+  spindle_stop_ = 0;
+  door_retracted_ = door_after_jog_ = false;
+  door_restore_until_.reset();
   const auto eeprom = gc_.coord_data;  // gc_init(): offsets come back from EEPROM
   gc_ = GcState{};
   gc_.coord_data = eeprom;
@@ -797,6 +1026,7 @@ std::string Controller::state_name() const {
     case MachineState::home: return "Home";
     case MachineState::jog: return "Jog";
     case MachineState::sleep: return "Sleep";
+    case MachineState::door: return door_restore_until_ ? "Door:3" : door_retracted_ ? "Door:0" : "Door:2";
   }
   return "Idle";
 }
@@ -805,7 +1035,7 @@ std::string Controller::status_report() {
   const int mask = settings_.status_mask();
   const bool inches = settings_.get(13) != 0;
   const bool busy = state_ == MachineState::run || state_ == MachineState::hold || state_ == MachineState::jog ||
-                    state_ == MachineState::home;
+                    state_ == MachineState::home || state_ == MachineState::door;
   Vec3 pos = motion_.position();
   const Vec3 wco = gc_.wco();
   std::string r = "<" + state_name();
@@ -816,9 +1046,14 @@ std::string Controller::status_report() {
     r += "|WPos:";
   }
   r += axis_values(pos, inches);
-  if (mask & 2)
-    r += "|Bf:" + std::to_string(Motion::kPlannerBlocks - motion_.blocks()) + "," +
-         std::to_string(kRxBufferSize - 1 - static_cast<int>(rx_.size()));
+  if (mask & 2) {
+    // serial_get_rx_buffer_available(): 128 - used while the ring's head is at or past its
+    // tail, 127 - used once it has wrapped (GRBL's own off-by-one; 128 when empty).
+    const long used = static_cast<long>(rx_.size());
+    const long head = rx_pushed_ % kRxBufferSize, tail = ((rx_pushed_ - used) % kRxBufferSize + kRxBufferSize) % kRxBufferSize;
+    const long available = head >= tail ? kRxBufferSize - used : kRxBufferSize - 1 - used;
+    r += "|Bf:" + std::to_string(Motion::kPlannerBlocks - motion_.blocks()) + "," + std::to_string(available);
+  }
   char fs[64];
   const double feed = motion_.speed_mm_min();
   std::snprintf(fs, sizeof fs, "|FS:%.*f,%.0f", inches ? 1 : 0, inches ? feed / kMmPerInch : feed, motion_.laser_s());
@@ -834,10 +1069,12 @@ std::string Controller::status_report() {
     --ovr_counter_;
   } else {
     ovr_counter_ = (busy ? kOvrRefreshBusy : kOvrRefreshIdle) - 1;
-    r += "|Ov:100,100,100";
+    r += "|Ov:" + std::to_string(feed_ovr_) + "," + std::to_string(rapid_ovr_) + "," + std::to_string(spindle_ovr_);
     const Spindle on = motion_.laser_spindle();
-    if (on == Spindle::cw) r += "|A:S";
-    else if (on == Spindle::ccw) r += "|A:C";
+    if (on != Spindle::off || flood_on_) r += "|A:";
+    if (on == Spindle::cw) r += "S";
+    else if (on == Spindle::ccw) r += "C";
+    if (flood_on_) r += "F";
   }
   return r + ">\r\n";
 }

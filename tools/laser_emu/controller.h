@@ -10,8 +10,23 @@
 // is dropped and counted in the Record as an overflow (one event per line hit) - except
 // during a critical alarm, when GRBL reads nothing and the job is already lost. Replies leave at
 // the same byte rate; the main loop stalls while more than 104 bytes (TX_BUFFER_SIZE) wait.
-// Of the bytes >= 0x80 only 0x85 (jog cancel) is emulated; the others (overrides, safety
-// door) are ignored.
+// Bytes >= 0x80 (serial.c, protocol_exec_rt_system()): 0x84 safety door, 0x85 jog cancel,
+// 0x90-0x9D feed/rapid/spindle overrides, 0x9E spindle stop (in a hold), 0xA0 flood toggle
+// (Idle, Run, Hold, Jog); the rest (0xA1 mist: no ENABLE_M7) are dropped. The ISR only sets
+// flags; the main loop applies them when it next polls, so override bytes arriving while it
+// cannot (blocked on a full TX buffer, in an alarm report, homing) coalesce: nine 0x9B bytes
+// then count as one -10 %. Each is otherwise applied on arrival (an idle 16 MHz main loop
+// polls far faster than one byte per 86.8 us). Feed override 10..200 % (+-10, +-1, 0x90 reset),
+// rapid 100/50/25 %, spindle 10..200 %: the laser power scales by it (S reported as
+// min(S * ovr, $30)); a jog is not feed-overridden. A change shows "Ov:" in the next report,
+// as a spindle or coolant change does. A reset puts them back to 100 %.
+// Safety door 0x84 (no door switch: the door reads closed at once): "[MSG:Check Door]" each
+// time, from Idle, Run, Hold or Jog (a jog is cancelled first); "Door:2" while decelerating,
+// then laser and flood off, "Door:0"; lines wait meanwhile. "~" restores ("Door:3": 1 s when
+// flood was on, 4 s for a spindle outside laser mode; no delay for a laser) and resumes the
+// program, or gives Idle. Laser mode with M3/M4 on: a feed hold turns the beam off once
+// stopped (DISABLE_LASER_DURING_HOLD), "~" prints "[MSG:Restoring spindle]" and resumes; 0x9E
+// in that hold turns the beam back on (same message) before the resume.
 //
 // Main loop (protocol.c): takes bytes from the receive buffer into a line (80-byte line
 // buffer: 79 characters after dropping spaces, control characters and comments, else error:11),
@@ -43,8 +58,10 @@
 // Alarm (printing "[MSG:'$H'|'$X' to unlock]") if it was in an alarm, else runs the startup lines. A reset at Hold:0 keeps the position and
 // gives Idle: GRBL's way to abort without losing position.
 // "$J=" jogging (jog.c, gcode.c): from Idle or Jog (else error:8); G1 and G94 enforced, F
-// required (error:22), S/T error:36, other commands than G20/G21 G90/G91 G53 error:16, a target
-// beyond the soft limits error:15 (no alarm). Answered once queued; state Jog while it runs
+// required (error:22), S/T error:36, other commands than G20/G21 G90/G91 G53 error:16, each
+// where gcode.c checks it (word errors first, 16 last); a target beyond the soft limits error:15
+// (no alarm). Without axis words the target is machine 0,0,0 (gcode.c never fills it). The
+// jog carries the parser's spindle and S: with M3 on a laser burns while jogging. Answered once queued; state Jog while it runs
 // (G-code then error:9); the parser's modes stay, its position follows the jog. 0x85 (or "!")
 // while jogging decelerates, flushes the planner and gives Idle with the position kept.
 // Alarms: soft limits ($20=1, system_check_travel_limits()): machine space is -$13x..0 per
@@ -112,7 +129,7 @@ struct ControllerOptions {
   bool force_set_origin = false;
 };
 
-enum class MachineState { idle, run, hold, alarm, check, home, jog, sleep };
+enum class MachineState { idle, run, hold, alarm, check, home, jog, sleep, door };
 
 class Controller {
  public:
@@ -196,6 +213,12 @@ class Controller {
   int store_startup_line(int index, const std::string& line);
   int jog_command(const std::string& line);  // "$J=...": status, or kPending with actions_ set
   void jog_cancel();
+  void apply_overrides();           // protocol_exec_rt_system()'s override part
+  void safety_door();
+  void door_stopped();              // the door's hold is complete: retract (beam, coolant off)
+  void finish_door_restore();
+  void spindle_stop_step();         // protocol_exec_rt_suspend()'s spindle-stop handling
+  void set_flood(bool on);
   void run_startup_lines();
   void reinitialise(bool announce = true);  // what GRBL's main() does after every reset; the banner if `announce`
   std::string status_report();
@@ -245,6 +268,15 @@ class Controller {
   bool jog_line_ = false;           // the line under way is a "$J=" jog
   bool jog_cancel_ = false;         // decelerating to cancel a jog (0x85, or "!" while jogging)         // the switches are where the last $H found them
   int wco_counter_ = 0, ovr_counter_ = 0;
+  // Overrides (sys.f_override, r_override, spindle_speed_ovr) and the ISR's pending flags.
+  int feed_ovr_ = 100, rapid_ovr_ = 100, spindle_ovr_ = 100;
+  unsigned motion_ovr_flags_ = 0, accessory_ovr_flags_ = 0;
+  bool flood_on_ = false;           // the flood coolant pin (M8, 0xA0; off in a door, sleep, reset)
+  unsigned spindle_stop_ = 0;       // sys.spindle_stop_ovr bits (kStop*)
+  bool door_retracted_ = false;     // SUSPEND_RETRACT_COMPLETE: stopped, laser and coolant off
+  bool door_after_jog_ = false;     // the door opened while a jog was being cancelled
+  std::optional<int64_t> door_restore_until_;  // ns: Door:3, restoring
+  long rx_pushed_ = 0;              // bytes ever put in the ring (its head index, mod 128)
   std::string build_info_;
   std::string startup_lines_[2];
 };

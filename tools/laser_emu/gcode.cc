@@ -17,6 +17,7 @@ enum : int {
   kG53InvalidMotionMode = 30, kAxisWordsExist = 31, kNoAxisWordsInPlane = 32,
   kInvalidTarget = 33, kArcRadiusError = 34, kNoOffsetsInPlane = 35, kUnusedWords = 36,
   kMaxValueExceeded = 38, kUnsupportedCoordSys = 29, kG43DynamicAxisError = 37,
+  kInvalidJogCommand = 16,
 };
 
 constexpr double kMmPerInch = 25.4;
@@ -66,7 +67,7 @@ bool read_grbl_float(const std::string& line, size_t& pos, double& value) {
   return true;
 }
 
-std::string GcState::modes_report() const {
+std::string GcState::modes_report(bool report_inches) const {
   std::string out = "[GC:G" + std::to_string(motion);
   out += " G" + std::to_string(54 + coord_select);
   out += " G" + std::to_string(17 + plane);
@@ -79,13 +80,18 @@ std::string GcState::modes_report() const {
   if (!mist && !flood) out += " M9";
   char buf[64];
   // F is printed in the report units (printFloat_RateValue), S with no decimals.
-  std::snprintf(buf, sizeof buf, " T%d F%.*f S%.0f]", tool, inches ? 1 : 0, inches ? feed / kMmPerInch : feed, s);
+  std::snprintf(buf, sizeof buf, " T%d F%.*f S%.0f]", tool, report_inches ? 1 : 0,
+                report_inches ? feed / kMmPerInch : feed, s);
   return out + buf;
 }
 
-LineResult execute_gcode_line(const std::string& line, GcState& state, const Settings& settings) {
+LineResult execute_gcode_line(const std::string& line, GcState& state, const Settings& settings, bool jog) {
   auto fail = [](int code) { return LineResult{code, {}}; };
   GcState block = state;  // gc_block.modal starts as a copy of the current modes
+  if (jog) {  // GC_PARSER_JOG_MOTION: G1 and G94 enforced for the checks
+    block.motion = 1;
+    block.inverse_time = false;
+  }
   // Values of this block.
   double values[13] = {};
   unsigned value_words = 0, command_words = 0, axis_words = 0, ijk_words = 0;
@@ -205,10 +211,9 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
           group = M7;
           block.spindle = static_cast<Spindle>(static_cast<int>(int_value));
           break;
-        case 7: case 8: case 9:
+        case 8: case 9:  // M7 (mist) only with ENABLE_M7, off in stock 1.1h: error:20
           group = M8;
-          if (int_value == 7) block.mist = true;
-          else if (int_value == 8) block.flood = true;
+          if (int_value == 8) block.flood = true;
           else block.mist = block.flood = false;
           break;
         default: return fail(kUnsupportedCommand);
@@ -248,7 +253,10 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
   if ((value_words & (1u << N)) && values[N] >= kMaxLineNumber) return fail(kInvalidLineNumber);
 
   double feed = values[F];
-  if (block.inverse_time) {
+  if (jog) {  // [2.] a jog needs its own F, in the block's units
+    if (!(value_words & (1u << F))) return fail(kUndefinedFeedRate);
+    if (block.inches) feed *= kMmPerInch;
+  } else if (block.inverse_time) {
     if (axis_command == AxisCommand::motion && block.motion != 80 && block.motion != 0 &&
         !(value_words & (1u << F)))
       return fail(kUndefinedFeedRate);
@@ -260,7 +268,8 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
     }
   }  // else: G93 -> G94 in this block: only this block's F counts
   const double s_value = (value_words & (1u << S)) ? values[S] : state.s;
-  if (value_words & (1u << T)) block.tool = static_cast<int>(values[T]);
+  // [5.] gc_state.tool = gc_block.values.t for every executed line: 0 unless it has a T.
+  block.tool = (value_words & (1u << T)) ? static_cast<int>(values[T]) : 0;
 
   if (non_modal == NonModal::dwell) {
     if (!(value_words & (1u << P))) return fail(kValueWordMissing);
@@ -375,9 +384,27 @@ LineResult execute_gcode_line(const std::string& line, GcState& state, const Set
     }
   }
 
-  value_words &= ~((1u << N) | (1u << F) | (1u << S) | (1u << T));
+  // [0.] Unused words; a jog uses only N, F and the axis words (S and T are unused there).
+  value_words &= jog ? ~((1u << N) | (1u << F)) : ~((1u << N) | (1u << F) | (1u << S) | (1u << T));
   if (axis_command != AxisCommand::none) value_words &= ~((1u << X) | (1u << Y) | (1u << Z));
   if (value_words) return fail(kUnusedWords);
+
+  if (jog) {
+    // gc_execute_line()'s jog interception: only G20/G21, G90/G91 and G53 may come with it,
+    // then jog_execute() plans one line with the parser's spindle and power (M3 stays on).
+    if (command_words & ~((1u << G3) | (1u << G6) | (1u << G0))) return fail(kInvalidJogCommand);
+    if (non_modal != NonModal::none && non_modal != NonModal::absolute_override) return fail(kInvalidJogCommand);
+    LineResult jog_result;
+    Action a{Action::Kind::line};
+    // Without axis words gcode.c never fills the target: it stays zeroed and the jog goes to
+    // machine 0,0,0 (the real 1.1h does that for "$J=F100").
+    a.target = axis_words ? target : Vec3{};
+    a.feed = feed;
+    a.spindle = state.spindle;
+    a.s = state.s;
+    jog_result.actions.push_back(a);
+    return jog_result;  // the parser's modes are not touched; the caller moves its position
+  }
 
   // --- Step 3: execute: commit the state and list the actions (laser-mode rules of gcode.c).
   LineResult result;

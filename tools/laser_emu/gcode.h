@@ -6,14 +6,15 @@
 //
 // Supported: G0 G1 G2 G3 (arcs cut into chords as mc_arc() does, $12 tolerance) G4 G10 L2/L20
 // G17 G18 G19 G20 G21 G28 G28.1 G30 G30.1 G40 G43.1 G49 G53 G54..G59 G61 G80 G90 G91 G91.1 G92
-// G92.1 G93 G94, M0 M1 M2 M30 M3 M4 M5 M7 M8 M9, F S T N X Y Z I J K L R P. Not emulated,
-// answered error:20: G38.x (probing).
+// G92.1 G93 G94, M0 M1 M2 M30 M3 M4 M5 M8 M9, F S T N X Y Z I J K L R P. Answered error:20 as
+// stock 1.1h does: M7 (mist needs ENABLE_M7). Not emulated, answered error:20: G38.x (probing;
+// the real one would run a probe move and raise ALARM:4/5).
 // Errors (GRBL numbering): 1 expected letter, 2 bad number, 4 negative value, 20 unsupported,
 // 21 modal group violation, 22 feed rate not set, 23 non-integer G/M, 24 axis command conflict,
 // 25 word repeated, 26 no axis words, 27 line number too big, 28 value word (P) missing,
 // 29 G10 P beyond 6, 30 G53 without G0/G1, 31 axis words with G80, 32 no axis words in plane, 33 invalid target,
 // 34 arc radius error, 35 no offsets in plane, 36 unused words, 37 G43.1 without exactly Z,
-// 38 tool number > 255.
+// 38 tool number > 255; for jogs also 16 invalid jog command.
 // Units: mm and mm/min inside (G20 input is converted), seconds for dwells.
 // Not thread-safe (plain functions over value types).
 #pragma once
@@ -41,7 +42,7 @@ struct GcState {
   int coord_select = 0;       // 0..5 = G54..G59
   Spindle spindle = Spindle::off;
   bool mist = false, flood = false;
-  int tool = 0;
+  int tool = 0;     // T of the last executed line (gc_block.values.t: 0 when a line has no T)
   double feed = 0;  // mm/min (G93: 1/min of the last block)
   double s = 0;     // programmed spindle speed / laser power
   Vec3 position{};  // machine mm
@@ -59,7 +60,9 @@ struct GcState {
     return w;
   }
 
-  std::string modes_report() const;  // "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]"
+  // "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]"; F in the units $13 reports (`report_inches`),
+  // whatever G20/G21 is, as report_gcode_modes() prints it.
+  std::string modes_report(bool report_inches = false) const;
 };
 
 struct Action {
@@ -89,7 +92,11 @@ struct LineResult {
 
 // Parses and "executes" one line: on success `state` is updated and the actions are returned;
 // on error `state` is unchanged and no action is returned (GRBL rejects the whole line).
-LineResult execute_gcode_line(const std::string& line, GcState& state, const Settings& settings);
+// `jog`: the words of a "$J=" line (after the "="), checked in gcode.c's order with
+// GC_PARSER_JOG_MOTION: G1/G94 enforced, F required (22), S/T unused words (36), commands other
+// than G20/G21 G90/G91 G53 invalid (16), each where gcode.c checks it. A jog leaves `state`
+// untouched and returns one line action (with the parser's spindle and S: M3 stays on).
+LineResult execute_gcode_line(const std::string& line, GcState& state, const Settings& settings, bool jog = false);
 
 // GRBL's read_float(): optional sign, digits, at most one '.', no exponent. Advances `pos`.
 // As in GRBL, only the first 8 digits are significant (further integer digits scale by 10,

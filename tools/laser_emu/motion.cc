@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace atelier::laser_emu {
@@ -33,7 +34,8 @@ Vec3 Motion::planner_position() const {
   return p;
 }
 
-bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time, Spindle spindle, double s) {
+bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time, Spindle spindle, double s,
+                  bool no_feed_override) {
   std::array<long, 3> steps{};
   bool moves = false;
   for (int i = 0; i < 3; ++i) {
@@ -52,14 +54,32 @@ bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time
     ms.steps_per_mm[i] = settings_.steps_per_mm(i);
   }
   ms.junction_deviation_mm = settings_.get(11);
-  if (queue_.empty()) planner_.sync();  // an empty planner: this block starts from rest
-  b.plan = planner_.add(ms, {b.end[0] - b.start[0], b.end[1] - b.start[1], b.end[2] - b.start[2]},
-                        inverse_time ? feed * b.length : feed, rapid);
+  if (queue_.empty()) {  // an empty planner: this block starts from rest
+    planner_.sync();
+    last_nominal100_ = 0;
+  }
+  const double programmed = inverse_time ? feed * b.length : feed;
+  b.plan = planner_.add(ms, {b.end[0] - b.start[0], b.end[1] - b.start[1], b.end[2] - b.start[2]}, programmed,
+                        rapid);
+  // The rapid rate along the block: the axis limits ($110..$112) scaled by the direction.
+  b.rapid_mm_min = std::numeric_limits<double>::max();
+  for (int i = 0; i < 3; ++i) {
+    const double u = b.length > 0 ? std::fabs(b.end[i] - b.start[i]) / b.length : 0;
+    if (u > 0) b.rapid_mm_min = std::min(b.rapid_mm_min, settings_.max_rate(i) / u);
+  }
+  b.rapid = rapid;
+  b.no_override = no_feed_override;
+  b.programmed_mm_min = rapid ? b.rapid_mm_min : programmed;
+  // The junction's own limit: below the nominal cap it is what the planner found, above it unknown.
+  const double cap = std::min(b.plan.nominal_mm_min, last_nominal100_) / 60;
+  b.junction_sqr = b.plan.max_entry_sqr < cap * cap * (1 - 1e-9) ? b.plan.max_entry_sqr : 1e300;
+  last_nominal100_ = b.plan.nominal_mm_min;
   b.rate = b.plan.nominal_mm_min;
   b.accel = b.plan.accel_mm_s2;
   b.spindle = spindle;
   b.s = s;
   queue_.push_back(b);
+  if (feed_ovr_ != 1 || rapid_ovr_ != 1) apply_overrides(queue_.size() - 1);
   planner_steps_ = steps;
   // The running block may now leave faster: replan it from where the head is (GRBL's stepper
   // takes the new plan at its next segment).
@@ -71,6 +91,43 @@ bool Motion::push(const Vec3& target, double feed, bool rapid, bool inverse_time
     begin_piece(now_);
   }
   return true;
+}
+
+void Motion::apply_overrides(size_t i) {
+  Block& b = queue_[i];
+  // plan_compute_profile_nominal_speed(): the programmed rate times the override, at most the
+  // rapid rate, at least MINIMUM_FEED_RATE (1 mm/min).
+  double nominal = b.programmed_mm_min;
+  if (b.rapid) nominal *= rapid_ovr_;
+  else if (!b.no_override) nominal *= feed_ovr_;
+  nominal = std::max(1.0, std::min(nominal, b.rapid_mm_min));
+  b.rate = nominal;
+  b.plan.nominal_mm_min = nominal;
+  if (i > 0) {  // plan_compute_profile_parameters(): never enter faster than either nominal
+    const double cap = std::min(nominal, queue_[i - 1].rate) / 60;
+    b.plan.max_entry_sqr = std::min(b.junction_sqr, cap * cap);
+  }
+}
+
+void Motion::set_feed_overrides(int64_t now, double feed, double rapid) {
+  now_ = std::max(now_, now);
+  feed_ovr_ = feed;
+  rapid_ovr_ = rapid;
+  for (size_t i = 0; i < queue_.size(); ++i) apply_overrides(i);
+  if (running_ && !decel_ && !queue_.empty()) {
+    const double d = distance_at(now_), v = speed_at(now_);
+    close_piece(now_);
+    d0_ = d;
+    profile_front(now_, v);
+    begin_piece(now_);
+  }
+}
+
+void Motion::set_spindle_override(int64_t now, double factor) {
+  now_ = std::max(now_, now);
+  close_piece(now_);
+  spindle_ovr_ = factor;
+  begin_piece(now_);
 }
 
 void Motion::profile_front(int64_t now, double entry_mm_min) {
@@ -137,8 +194,11 @@ Motion::Output Motion::output_at(int64_t t) const {
 
 double Motion::power_of(const Output& o) const {
   if (o.spindle == Spindle::off || o.s <= 0) return 0;
-  double p = std::min(o.s, settings_.s_max()) / std::max(1e-9, settings_.s_max());
-  if (o.spindle == Spindle::ccw) p *= o.programmed_rate > 0 ? o.speed / o.programmed_rate : 0.0;  // M4
+  // spindle_compute_pwm_value(): S (M4: times the speed ratio) times the override, capped at $30.
+  double s = o.s;
+  if (o.spindle == Spindle::ccw && settings_.laser_mode())
+    s *= o.programmed_rate > 0 ? o.speed / o.programmed_rate : 0.0;  // M4
+  const double p = std::min(s * spindle_ovr_, settings_.s_max()) / std::max(1e-9, settings_.s_max());
   return std::clamp(p, 0.0, 1.0);
 }
 
@@ -186,8 +246,9 @@ void Motion::finish_block(int64_t t) {
   if (queue_.empty()) {
     running_ = false;
     planner_.sync();
-    // Cycle end: M4 output follows the speed (now 0); M3 keeps the last block's power.
-    idle_ = b.spindle == Spindle::cw ? Output{b.spindle, b.s, 0, 0} : Output{b.spindle, 0, 0, 0};
+    // Cycle end: a laser's M4 output follows the speed (now 0); M3 keeps the last block's power.
+    const bool m4_laser = b.spindle == Spindle::ccw && settings_.laser_mode();
+    idle_ = Output{b.spindle, m4_laser ? 0.0 : b.s, 0, 0};
   }
   begin_piece(t);
 }
@@ -218,7 +279,10 @@ void Motion::advance(int64_t now) {
         b.length -= stop_d_;
       }
       d0_ = 0;
-      idle_ = Output{};  // the head stands still: M4 off; M3 is turned off by the hold itself
+      // The head stands still: a laser's M4 is off, M3 keeps its power (the controller's
+      // spindle stop turns it off); outside laser mode the spindle runs on.
+      const bool m4_laser = b.spindle == Spindle::ccw && settings_.laser_mode();
+      idle_ = Output{b.spindle, m4_laser ? 0.0 : b.s, 0, 0};
       begin_piece(*due);
     } else if (phase_ < 2) {
       // From accelerating to cruising to decelerating: a new piece, so M4's power stays exact.
@@ -305,9 +369,10 @@ double Motion::speed_mm_min() const { return speed_at(now_); }
 
 double Motion::laser_s() const {
   const Output o = output_at(now_);
-  const double p = power_of(o);
-  if (p <= 0) return 0;
-  return o.spindle == Spindle::ccw && o.programmed_rate > 0 ? o.s * o.speed / o.programmed_rate : o.s;
+  if (power_of(o) <= 0) return 0;
+  double s = o.s;
+  if (o.spindle == Spindle::ccw && settings_.laser_mode()) s *= o.programmed_rate > 0 ? o.speed / o.programmed_rate : 0.0;
+  return std::min(s * spindle_ovr_, settings_.s_max());  // sys.spindle_speed
 }
 
 Spindle Motion::laser_spindle() const {

@@ -14,8 +14,9 @@
 // Laser rules (laser mode, DISABLE_LASER_DURING_HOLD as in stock 1.1h): a block's output is its
 // (M3|M4, S) with S = 0 for G0; M4 power scales with actual/programmed speed, so it is off
 // whenever the head stands still and lighter where the head accelerates; M3 keeps its last
-// power while stopped (set by the last block or a spindle sync); a completed feed hold turns
-// the beam off until resumed; a stop (reset, alarm) turns it off. The record gets one piece per
+// power while stopped (set by the last block or a spindle sync); the controller turns the beam
+// off in a completed feed hold (set_hold_beam_off()); a stop (reset, alarm) turns it off.
+// Outside laser mode ($32=0) M4 is a spindle like M3: not scaled, and it keeps running in a hold. The record gets one piece per
 // phase of a block (accelerating, cruising, decelerating), so M4's power is exact per piece
 // (the speed is linear in time within one).
 // Positions: machine mm; block ends are quantised to whole steps ($100..$102) as GRBL does.
@@ -41,9 +42,15 @@ struct Block {
   double length = 0;    // mm
   double rate = 0;      // nominal speed, mm/min
   double accel = 0;     // acceleration limit along the block, mm/s^2
-  laser::PlannerBlock plan;  // as plan_buffer_line() made it (junction limit)
+  laser::PlannerBlock plan;  // as plan_buffer_line() made it, with the overrides applied
   Spindle spindle = Spindle::off;
   double s = 0;         // 0: laser off for this block
+  // For the feed/rapid overrides (plan_compute_profile_nominal_speed()): the programmed rate
+  // (F, or the rapid rate for G0), the rapid rate along the block (the cap), and the entry
+  // limit from the junction alone ((mm/s)^2; unknown above the 100 % nominal cap: taken as no
+  // limit there, so an override above 100 % may take a corner faster than GRBL would).
+  double programmed_mm_min = 0, rapid_mm_min = 0, junction_sqr = 0;
+  bool rapid = false, no_override = false;  // no_override: a jog (PL_COND_FLAG_NO_FEED_OVERRIDE)
 };
 
 class Motion {
@@ -56,7 +63,14 @@ class Motion {
   // Planner. plan_buffer_line(): false when the move has no steps (nothing queued).
   bool full() const { return static_cast<int>(queue_.size()) >= kPlannerBlocks; }
   int blocks() const { return static_cast<int>(queue_.size()); }
-  bool push(const Vec3& target, double feed, bool rapid, bool inverse_time, Spindle spindle, double s);
+  bool push(const Vec3& target, double feed, bool rapid, bool inverse_time, Spindle spindle, double s,
+            bool no_feed_override = false);
+  // Overrides as fractions (1 = 100 %). Feed/rapid: every queued block's nominal speed is
+  // recomputed and the running one replanned from its speed now (plan_update_velocity_profile_
+  // parameters(), plan_cycle_reinitialize()); during a hold's deceleration they apply at the
+  // resume. Spindle: the laser power (and reported S) scale by it, capped at $30.
+  void set_feed_overrides(int64_t now, double feed, double rapid);
+  void set_spindle_override(int64_t now, double factor);
   // Where the planner ends (mm, step-quantised) and where the head is now.
   Vec3 planner_position() const;
   Vec3 position() const;
@@ -99,6 +113,7 @@ class Motion {
   void close_piece(int64_t now);          // record the piece up to `now`
   void begin_piece(int64_t now);          // after a change: next piece, beam_off event
   void finish_block(int64_t t);
+  void apply_overrides(size_t i);         // queue_[i]'s nominal speed and entry limit
   double epoch(int64_t t) const { return epoch0_ + static_cast<double>(t) * 1e-9; }
 
   const Settings& settings_;
@@ -124,6 +139,9 @@ class Motion {
   double decel_v0_ = 0;    // mm/s when the hold began
   int64_t stop_t_ = 0;
   double stop_d_ = 0;
+
+  double feed_ovr_ = 1, rapid_ovr_ = 1, spindle_ovr_ = 1;
+  double last_nominal100_ = 0;  // the planner's previous nominal (mm/min, at 100 %) for junction_sqr
 
   Output idle_;            // laser output while no block runs
   bool hold_beam_off_ = false;

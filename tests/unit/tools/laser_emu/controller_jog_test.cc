@@ -50,6 +50,51 @@ TEST(LaserEmuJog, JogErrorsAreGrbls) {
   EXPECT_EQ(rig.exchange("$J=X10F100"), "error:8\r\n");       // only from Idle or Jog
 }
 
+TEST(LaserEmuJog, JogErrorsComeInGcodeCsOrder) {
+  // Checked against the real 1.1h: the parser's word errors first, then the missing F, the
+  // other block checks, the unused S/T words, and last the commands a jog may not carry.
+  Rig rig;
+  rig.boot();
+  EXPECT_EQ(rig.exchange("$J=X1X2S5"), "error:25\r\n");        // repeated word, before F
+  EXPECT_EQ(rig.exchange("$J=X1S-5"), "error:4\r\n");          // negative value, before F
+  EXPECT_EQ(rig.exchange("$J=G0X1"), "error:22\r\n");          // F before the G0 check
+  EXPECT_EQ(rig.exchange("$J=N99999999X1F10"), "error:27\r\n");
+  EXPECT_EQ(rig.exchange("$J=X1F100T300"), "error:38\r\n");    // tool number, before unused T
+  EXPECT_EQ(rig.exchange("$J=G4X1F100"), "error:28\r\n");      // G4 without P, before 16
+  EXPECT_EQ(rig.exchange("$J=G4P1X1F100"), "error:16\r\n");
+  EXPECT_EQ(rig.exchange("$J=G2X1R1F100"), "error:16\r\n");
+  EXPECT_EQ(rig.exchange("$J=X1F100S5G0"), "error:36\r\n");    // unused words before 16
+  EXPECT_EQ(rig.exchange("$J=X1F-100"), "error:4\r\n");
+  EXPECT_EQ(rig.exchange("$J=N5X-1F600"), "ok\r\n");          // N is allowed
+  rig.run(500'000);
+  EXPECT_EQ(rig.ctl.position()[0], -1.0);
+}
+
+TEST(LaserEmuJog, AJogWithoutAxisWordsGoesToMachineZeroAsTheRealOneDoes) {
+  // gcode.c fills the target only from axis words: "$J=F..." jogs to MPos 0,0,0.
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("G0 X-20 Y-10"), "ok\r\n");
+  rig.run(1'000'000);
+  ASSERT_EQ(rig.ctl.position(), (Vec3{-20, -10, 0}));
+  EXPECT_EQ(rig.exchange("$J=G91F3000"), "ok\r\n");
+  rig.run(2'000'000);
+  EXPECT_EQ(rig.ctl.position(), (Vec3{0, 0, 0}));
+}
+
+TEST(LaserEmuJog, AJogKeepsM3OnAndCancellingItLeavesTheParserAlone) {
+  Rig rig;
+  rig.boot();
+  ASSERT_EQ(rig.exchange("M3 S100"), "ok\r\n");
+  ASSERT_EQ(rig.exchange("$J=G91X-50F3000"), "ok\r\n");
+  rig.run(300'000);
+  EXPECT_EQ(rig.ctl.laser_s(), 100.0);  // jog_execute() plans with the parser's spindle and S
+  rig.send("\x85");
+  rig.run(500'000);
+  EXPECT_EQ(rig.ctl.state(), MachineState::idle);
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G21 G90 G94 M3 M9 T0 F0 S100]\r\nok\r\n");  // M3 stays
+}
+
 TEST(LaserEmuJog, AJogBeyondTheSoftLimitsIsError15WithoutAnAlarm) {
   ControllerOptions o;
   o.settings = {{22, 1}, {20, 1}};

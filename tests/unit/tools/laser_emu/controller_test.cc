@@ -37,6 +37,41 @@ TEST(LaserEmuProtocol, BuildInfoAndSettings) {
   EXPECT_EQ(rig.exchange("$"), "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]\r\nok\r\n");
 }
 
+TEST(LaserEmuProtocol, ToolNumbersStartupIndexesAndReportUnitsAsTheRealOne) {
+  Rig rig;
+  rig.boot();
+  // gc_state.tool takes every executed line's T: 0 again after a line without one.
+  ASSERT_EQ(rig.exchange("T1"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T1 F0 S0]\r\nok\r\n");
+  ASSERT_EQ(rig.exchange("G21"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]\r\nok\r\n");
+  EXPECT_EQ(rig.exchange("T1.5"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("M6"), "error:20\r\n");
+  // $G prints F in the units of $13, not of G20.
+  ASSERT_EQ(rig.exchange("G20 F10"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G20 G90 G94 M5 M9 T0 F254 S0]\r\nok\r\n");
+  ASSERT_EQ(rig.exchange("$13=1"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$G"), "[GC:G0 G54 G17 G20 G90 G94 M5 M9 T0 F10.0 S0]\r\nok\r\n");
+  // $N2= and up: checked and answered (GRBL writes past the two slots), never listed or run.
+  EXPECT_EQ(rig.exchange("$N2=G0"), "ok\r\n");
+  EXPECT_EQ(rig.exchange("$N2=Q5"), "error:20\r\n");
+  EXPECT_EQ(rig.exchange("$N"), "$N0=\r\n$N1=\r\nok\r\n");
+}
+
+TEST(LaserEmuProtocol, ProgramEndRefreshesTheWorkOffsetInTheNextReport) {
+  Rig rig;
+  rig.boot();
+  for (int i = 0; i < 3; ++i) {  // past the session's first WCO and Ov reports
+    rig.send("?");
+    rig.run(10'000);
+  }
+  rig.take();
+  ASSERT_EQ(rig.exchange("M2"), "[MSG:Pgm End]\r\nok\r\n");
+  rig.send("?");
+  rig.run(10'000);
+  EXPECT_EQ(rig.take(), "<Idle|MPos:0.000,0.000,0.000|FS:0,0|WCO:0.000,0.000,0.000>\r\n");
+}
+
 TEST(LaserEmuProtocol, LinesLongerThanTheLineBufferAreError11) {
   Rig rig;
   rig.boot();
