@@ -204,9 +204,6 @@ void Controller::advance_motion(int64_t t) {
       raise_alarm(kAlarmSoftLimit);
     } else {
       hold_complete_ = true;
-      if (door_after_jog_) {  // unreachable here (jogs end above); kept for clarity
-        door_after_jog_ = false;
-      }
       if (state_ == MachineState::door) door_stopped();
       else spindle_stop_step();  // DISABLE_LASER_DURING_HOLD: the beam goes off now
     }
