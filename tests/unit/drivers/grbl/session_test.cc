@@ -1075,6 +1075,7 @@ TEST(GrblKeptSession, ABannerSeenSinceTheLastUseMeansTheBoardRestartedAndIsSetUp
   k.s.jog(40, 0, 3000);
   ASSERT_NEAR(k.s.query_status().x, 40, 0.01);
   k.laser->reopened(k.clock.now());  // a reset button, a USB hiccup: the head's position is gone
+  k.clock.advance(100ms);            // the next job comes later: the banner has arrived by then
   const size_t mark = k.laser->received().size();
   const MachineInfo info = k.s.revalidate();
   EXPECT_EQ(info.version, "1.1h.20190830");
