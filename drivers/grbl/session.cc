@@ -686,6 +686,9 @@ void Session::run_lines(const Program& p, StreamMode mode, Controls& c, const Pr
         window.acked();
         ++acked;
         last_ack = clock_.now();
+        // The last ok: ask for the status at once rather than at the next poll (up to 200 ms
+        // later), so the job ends as soon as GRBL is Idle (on a fast machine, ~1 % of a job).
+        if (acked == n && !check_mode) last_poll = Clock::time_point{};
         report(acked == n);
         break;
       case Reply::error: {
