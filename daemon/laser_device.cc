@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "base/error.h"
 #include "convert/common/job_start.h"
@@ -76,6 +77,67 @@ LaserDevice::LaserDevice(DeviceConfig config, JobService& jobs, Opener open, Por
       options_(options) {}
 
 LaserDevice::~LaserDevice() { stop(); }
+
+void LaserDevice::stop() {
+  DeviceWorker::stop();
+  drop_link();  // the worker has ended: nothing else uses the link now
+}
+
+LaserDevice::Link& LaserDevice::link() {
+  auto port = resolve_();
+  if (!port) {
+    drop_link();
+    throw LinkLost("the laser is not connected");
+  }
+  if (link_ && link_->port != *port) {
+    log::info("the laser's port moved from " + link_->port + " to " + *port + ": reconnecting",
+              log::device_fields(config_.name));
+    drop_link();
+  }
+  if (link_) {
+    try {
+      link_->info = link_->session->revalidate();
+      return *link_;
+    } catch (const std::exception& e) {
+      // Dead or confused before anything was sent: one fresh connection, then give up.
+      log::warning(std::string("the kept connection failed its check (") + e.what() + "): reconnecting",
+                   log::device_fields(config_.name));
+      drop_link();
+    }
+  }
+  auto fresh = std::make_unique<Link>();
+  fresh->port = *port;
+  fresh->transport = open_(*port);
+  fresh->session = std::make_unique<grbl::Session>(*fresh->transport, options_.timeouts, clock_);
+  try {
+    fresh->info = fresh->session->connect();
+  } catch (...) {
+    try {
+      fresh->transport->close();
+    } catch (...) {
+    }
+    throw;
+  }
+  link_ = std::move(fresh);
+  log::info("connected to GRBL " + link_->info.version + " on " + *port, log::device_fields(config_.name));
+  return *link_;
+}
+
+void LaserDevice::drop_link() noexcept {
+  if (!link_) return;
+  try {
+    link_->transport->close();
+  } catch (...) {  // closing a link that is gone already
+  }
+  link_.reset();
+}
+
+void LaserDevice::after_failure(const std::exception& e) noexcept {
+  const bool known_state = dynamic_cast<const grbl::Canceled*>(&e) || dynamic_cast<const grbl::GrblError*>(&e) ||
+                           dynamic_cast<const grbl::GrblAlarm*>(&e) || dynamic_cast<const grbl::SetupError*>(&e) ||
+                           dynamic_cast<const BadInput*>(&e) || dynamic_cast<const std::invalid_argument*>(&e);
+  if (!known_state) drop_link();
+}
 
 struct LaserDevice::MachineRequest {
   MachineCommand cmd;
@@ -163,11 +225,9 @@ void LaserDevice::run_machine_command(MachineRequest& req) {
   };
   std::string effect;
   try {
-    auto port = resolve_();
-    if (!port) throw LinkLost("the laser is not connected");
-    std::unique_ptr<Transport> link = open_(*port);
-    grbl::Session session(*link, options_.timeouts, clock_);
-    const grbl::MachineInfo info = session.connect();
+    Link& kept = link();
+    grbl::Session& session = *kept.session;
+    const grbl::MachineInfo info = kept.info;
     switch (cmd.op) {
       case MachineCommand::Op::unlock: {
         const auto reply = session.console("$X");
@@ -213,11 +273,11 @@ void LaserDevice::run_machine_command(MachineRequest& req) {
         break;
       }
     }
-    link->close();
     set_last("operator: " + effect);
     done();  // before the answer: the operator's next command must find the device free
     req.answer.set_value({{"device", config_.name}, {"lines", lines}, {"effect", effect}});
   } catch (const std::exception& e) {
+    after_failure(e);
     if (dynamic_cast<const LinkLost*>(&e)) set_state("offline", e.what());
     set_last(std::string("operator command failed: ") + e.what());
     done();
@@ -252,6 +312,7 @@ bool LaserDevice::cancel_running(int64_t job_id) {
 }
 
 void LaserDevice::forget_requests() {
+  drop_link();  // on the worker thread: the port is gone, or is someone else's now
   frame_request_.reset();
   if (machine_request_ && !machine_request_->taken) {
     machine_request_->answer.set_exception(
@@ -418,12 +479,8 @@ LaserDevice::Connection LaserDevice::connect_for(int64_t id) {
   std::stringstream text;
   text << in.rdbuf();
 
-  auto port = resolve_();
-  if (!port) throw LinkLost("the laser is not connected");
-  Connection c;
-  c.link = open_(*port);
-  c.session = std::make_unique<grbl::Session>(*c.link, options_.timeouts, clock_);
-  c.info = c.session->connect();
+  Link& kept = link();
+  Connection c{*kept.session, kept.info, {}};
   c.program = grbl::parse_program(text.str(), rapid_rate(c.info));
   if (auto problem = job_fit_problem(c.program, c.info, file_name))
     throw grbl::SetupError(*problem + "; nothing was sent");
@@ -452,17 +509,17 @@ void LaserDevice::run_frame(int64_t id) {
     Connection c = connect_for(id);
     if (!c.program.bounds) throw BadInput("the job has no moves to frame");
     // The same placement as the job will have, so the trace shows where it will burn.
-    const std::string placed = place_job(*c.session, c.info, &*c.program.bounds, placement.from,
+    const std::string placed = place_job(c.session, c.info, &*c.program.bounds, placement.from,
                                          gcode_file_for(jobs_.store().get(id)->kind));
-    c.session->frame(*c.program.bounds, options_.frame_feed_mm_min, controls);
-    if (placement.from != grbl::StartFrom::origin) c.session->command(grbl::kClearPlacement);
-    c.link->close();
+    c.session.frame(*c.program.bounds, options_.frame_feed_mm_min, controls);
+    if (placement.from != grbl::StartFrom::origin) c.session.command(grbl::kClearPlacement);
     set_last("framed " + job_tag(id) + " with the beam off (" + placed + ")");
     log::info("framed with the beam off", fields);
   } catch (const grbl::Canceled&) {
     set_last("framing of " + job_tag(id) + " stopped");
     log::info("framing stopped", fields);
   } catch (const std::exception& e) {
+    after_failure(e);
     // The job stays ready: framing is a check, and a failed check must not lose the job.
     set_last("framing " + job_tag(id) + " failed: " + e.what());
     log::warning(std::string("framing failed: ") + e.what(), fields);
@@ -593,7 +650,7 @@ void LaserDevice::run_job(int64_t id) {
     const JobPlacement placement = placement_for(id);
     Connection c = connect_for(id);
     const grbl::Program& program = c.program;
-    grbl::Session& session = *c.session;
+    grbl::Session& session = c.session;
     total = program.lines.size();
     source_lines_ = program.source_line;
     {
@@ -620,7 +677,6 @@ void LaserDevice::run_job(int64_t id) {
     beam_may_fire = true;
     session.stream(program, options_.mode, controls, on_progress);
     if (placement.from != grbl::StartFrom::origin) session.command(grbl::kClearPlacement);  // G54 as the operator left it
-    c.link->close();
     const double seconds =
         std::chrono::duration<double>(clock_.now() - started).count();
     jobs_.progress(id, static_cast<int64_t>(total), static_cast<int64_t>(total), "done");
@@ -628,9 +684,11 @@ void LaserDevice::run_job(int64_t id) {
                                                   config_.name + " in " + duration_text(seconds) + " (" +
                                                   placed + ")");
   } catch (const Error& e) {
+    after_failure(e);
     const Ending end = ending_for(e, id, "at " + line_count(acked, total), beam_may_fire);
     jobs_.transition(id, end.state, end.reason);
   } catch (const std::exception& e) {
+    after_failure(e);
     jobs_.transition(id, JobState::failed, config_.name + ": " + e.what());
   }
   {

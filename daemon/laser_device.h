@@ -3,6 +3,14 @@
 // (`atelierctl laser unlock|home|jog|origin|send`), on its worker thread, which alone opens the
 // port. Every line such a command sends is logged with its reply in the store's console log.
 //
+// One connection, kept: the port is opened on first need and stays open across jobs, frames
+// and commands (as LightBurn and OctoPrint keep theirs), since a board with a DTR auto-reset
+// (an Uno) restarts when the port is reopened, losing an alarm lock and the head's position
+// between a cancel and `laser unlock`, or a jog and a job started from here. Each reuse is
+// re-checked without a reset (Session::revalidate); a link that proves dead then is opened
+// anew once. It is dropped on a lost link, a silent controller or any unexpected error, when
+// the port resolves elsewhere or the device goes offline, and closed on stop().
+//
 // Placement (contract B, drivers/grbl/machine_space.h): a job's G-code is in bed coordinates;
 // its sidecar's `[laser] start_from` or `atelierctl start ID --start-from` (bed | origin | here)
 // says where its (0,0) lands. The job is checked against the machine's space before anything
@@ -11,7 +19,7 @@
 // Safety first: a laser job only starts when an operator says so (`atelierctl start ID`),
 // unless the device has autostart = true; it is never resumed or restarted on its own, after a
 // crash, a daemon stop or a reconnect (the job becomes `interrupted` and needs `retry`).
-// Life of a job here: ready -> running (port opened, banner, $I and $$ read, the job checked
+// Life of a job here: ready -> running (connection checked or opened: $I, $$ and $# read, the job checked
 // against $30 and the travel limits before anything is sent, optionally dry-run in check mode,
 // then streamed) -> completed | canceled (feed hold, soft reset, M5) | failed (G-code error,
 // ALARM, laser mode off, outside the travel) | interrupted (link lost, controller silent,
@@ -55,6 +63,8 @@ class LaserDevice : public DeviceWorker {
   LaserDevice(DeviceConfig config, JobService& jobs, Opener open, PortResolver resolve,
               LaserOptions options = {}, Clock& clock = real_clock());
   ~LaserDevice() override;
+  // Stops the worker (DeviceWorker::stop), then closes the kept connection.
+  void stop() override;
 
   // `from_row` must be 0: ends a program pause (M0, e.g. a sheet swap) of the running job, or
   // releases a feed hold on it.
@@ -104,19 +114,35 @@ class LaserDevice : public DeviceWorker {
   };
   Ending ending_for(const Error& e, int64_t id, const std::string& at, bool beam_may_fire);
   void run_frame(int64_t id);
-  // A job's G-code on a connected controller, checked against it ($30, travel).
-  struct Connection {
-    std::unique_ptr<Transport> link;         // outlives the session that reads it
+  // The kept connection to the controller (worker thread only; see the header's top).
+  struct Link {
+    std::string port;                       // as resolved when it was opened
+    std::unique_ptr<Transport> transport;   // outlives the session that reads it
     std::unique_ptr<grbl::Session> session;
+    grbl::MachineInfo info;                 // as of the last connect or revalidate
+  };
+  // The connection, checked for this use: the kept one revalidated, or (none kept, the port
+  // moved, or the kept one proved dead) the port opened and connected. Throws LinkLost,
+  // grbl::SetupError or grbl::Silent, with no connection kept.
+  Link& link();
+  // Closes and forgets the kept connection, if any.
+  void drop_link() noexcept;
+  // After `e` ended a job, frame or command: keeps the connection when `e` leaves it in a
+  // known state (a cancel, a refused line, an alarm, a check of ours), else drops it.
+  void after_failure(const std::exception& e) noexcept;
+  // A job's G-code on the connected controller, checked against it ($30, travel).
+  struct Connection {
+    grbl::Session& session;  // the kept link's
     grbl::MachineInfo info;
     grbl::Program program;
   };
-  // Reads the job's G-code, opens the port, connects (banner, $I, $$) and checks the job.
+  // Reads the job's G-code, connects (link()) and checks the job.
   // Throws LinkLost, grbl::SetupError (nothing sent) or std::runtime_error (unreadable file).
   Connection connect_for(int64_t id);
 
   Opener open_;
   LaserOptions options_;
+  std::unique_ptr<Link> link_;  // the kept connection (worker thread; after the join, stop())
 
   // Guarded by mu_ (DeviceWorker's).
   std::shared_ptr<grbl::Controls> controls_;  // of the job or frame on the machine

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "algorithms/laser/kerf.h"
+#include "algorithms/laser/motion_planner.h"
 #include "algorithms/laser/order.h"
 
 namespace atelier::laser {
@@ -19,6 +20,16 @@ Point to_machine(Point p, const Machine& m) { return Point{p.x, m.height_mm - p.
 
 // Bed (0, 0), where the head is assumed to start, in design coordinates.
 Point machine_zero_in_design(const Machine& m) { return Point{0, m.height_mm}; }
+
+// GRBL's planner (motion_planner.h) with the job's machine: both axes at the travel rate
+// and acceleration of the [laser] settings, its junction deviation; the rest GRBL's.
+MotionSettings motion_settings_for(const Machine& m) {
+  MotionSettings ms;
+  ms.max_rate_mm_min[0] = ms.max_rate_mm_min[1] = m.travel_mm_min;
+  ms.accel_mm_s2[0] = ms.accel_mm_s2[1] = m.accel_mm_s2;
+  ms.junction_deviation_mm = m.junction_deviation_mm;
+  return ms;
+}
 
 // Writes G-code lines and remembers the modal state, so that unchanged axes and feeds are
 // not repeated (every byte costs streaming time).
@@ -199,6 +210,9 @@ Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
   GcodeWriter g;
   write_header(g, machine, job.bounds);
   Point at{0, 0};
+  // Every move as GRBL's planner sees it, and the layer it belongs to, for the estimate.
+  std::vector<PlannedMove> moves;
+  std::vector<size_t> move_layer;
   for (size_t li = 0; li < job.toolpaths.size(); ++li) {
     const PlannedLayer& layer = job.toolpaths[li];
     const LayerSettings& s = layer.settings;
@@ -206,10 +220,22 @@ Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
     const double feed = s.speed_mm_min;
     g.line(layer_comment(s));
     g.line("M4 S" + std::to_string(std::lround(s.power_pct / 100.0 * machine.s_max)));
+    bool synced = true;  // the M4 line above: the planner empties before the next move
+    auto plan = [&](bool burn, Point p) {
+      PlannedMove m;
+      m.target = {p.x, p.y, 0};
+      m.feed_mm_min = feed;
+      m.rapid = !burn;
+      m.from_rest = synced;
+      synced = false;
+      moves.push_back(m);
+      move_layer.push_back(li);
+    };
     double burn_mm = 0, travel_mm = 0;
     for (const Path& path : layer.paths) {
       travel_mm += distance(at, path.points.front());
       g.move(false, path.points.front(), feed);
+      plan(false, path.points.front());
       at = path.points.front();
       stats.length_mm += path_length(path);
       for (int pass = 0; pass < s.passes; ++pass) {
@@ -219,20 +245,27 @@ Job plan_job(const std::vector<Layer>& layers, const Machine& machine) {
         for (size_t k = 1; k < pts.size(); ++k) {
           Point p = backwards ? pts[pts.size() - 1 - k] : pts[k];
           g.move(true, p, feed);
+          plan(true, p);
           burn_mm += distance(at, p);
           at = p;
         }
         if (path.closed && pts.size() > 1) {
           g.move(true, pts.front(), feed);
+          plan(true, pts.front());
           burn_mm += distance(at, pts.front());
           at = pts.front();
         }
       }
     }
-    stats.time_s = burn_mm / feed * 60 + travel_mm / machine.travel_mm_min * 60;
     (s.mode == Mode::cut ? job.cut_length_mm : job.engrave_length_mm) += burn_mm;
     job.travel_length_mm += travel_mm;
-    job.estimated_s += stats.time_s;
+  }
+  // Acceleration and junctions as GRBL plans them: short moves and corners take longer than
+  // their length at the feed (issue 20: a dense engrave 3.9x longer than length / feed).
+  const std::vector<double> seconds = move_seconds(moves, motion_settings_for(machine));
+  for (size_t i = 0; i < seconds.size(); ++i) {
+    job.layers[move_layer[i]].time_s += seconds[i];
+    job.estimated_s += seconds[i];
   }
   g.line("M5");
   job.gcode = g.take();

@@ -1,5 +1,5 @@
 // A laser job: layers of vector paths -> ordered, kerf-compensated toolpaths -> GRBL 1.1
-// G-code (laser mode, $32=1), with statistics and a time estimate.
+// G-code (laser mode, $32=1), with statistics and a time estimate (GRBL's planner model).
 //
 // Coordinates. Input paths are in "design" coordinates as drawn in an SVG: x to the right,
 // y DOWN, origin at the top-left (rear-left) corner of the bed, in mm. The G-code is always in
@@ -67,7 +67,7 @@ struct LayerStats {
   size_t paths = 0;         // after kerf offset (a split hole counts twice)
   double length_mm = 0;     // burned per pass
   int passes = 1;
-  double time_s = 0;        // burns of every pass plus the travel to each path
+  double time_s = 0;        // burns of every pass plus the travel to each path (planner model)
   size_t vanished_holes = 0;  // holes smaller than the kerf, not cut
 };
 
@@ -84,7 +84,8 @@ struct Job {
   double cut_length_mm = 0;          // burned, all passes
   double engrave_length_mm = 0;      // burned, all passes
   double travel_length_mm = 0;       // G0, from bed (0, 0) on
-  double estimated_s = 0;            // length / feed per move; ignores acceleration
+  double estimated_s = 0;            // GRBL's planner model (motion_planner.h) with the Machine's
+                                     // rate, acceleration and junction deviation
 };
 
 class PlanError : public BadInput {

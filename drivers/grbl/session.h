@@ -134,6 +134,13 @@ class Session {
   // offset). Throws SetupError if there is no
   // banner, the firmware is not GRBL 1.1, or laser mode is off ($32=0). Notes an alarm lock.
   MachineInfo connect();
+  // For a session kept open between jobs and commands (after connect()): checks that the
+  // controller is still there and re-reads what a console line may have changed, without a
+  // reset and without the banner wait. Reads what arrived since the last use (a banner there
+  // means the board restarted: set up afresh, $I too), then '?', $$ and $#; a controller left
+  // in check mode, a hold or sleep is reset as connect() does. Throws as connect() does
+  // (Silent, LinkLost, SetupError): the caller then drops the link and connects anew.
+  MachineInfo revalidate();
   const MachineInfo& info() const { return info_; }
 
   // Sends one line and waits for its ok (send-response; for $ commands and single G-code
@@ -195,6 +202,14 @@ class Session {
   // sets info_.alarm_locked on the way.
   std::optional<Reply> next(Clock::time_point deadline);
   bool wait_banner(std::chrono::milliseconds limit);
+  // Reads what the controller sent since the last read, without waiting, and handles its
+  // complete lines (next()). Returns true if a banner was among them.
+  bool drain_input();
+  // $I (version, buffer sizes, build options) into info_. Throws SetupError.
+  void read_build_info();
+  // After the banner (or at rest): $I if `build_info`, $$, $#, and a reset if the state
+  // would not run a job as sent. Throws SetupError.
+  void read_setup(bool build_info);
   // A setup query ($I, $$): the lines before its ok. Throws SetupError.
   std::vector<Reply> setup_query(const std::string& cmd);
   void run_lines(const Program& p, StreamMode mode, Controls& c, const ProgressFn& on_progress, bool check_mode);

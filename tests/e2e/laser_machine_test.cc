@@ -68,8 +68,8 @@ struct LaserRig {
     }, timeout);
   }
   json device() { return daemon->request("devices")["result"][0]; }
-  // Sends `$n=v` settings to the controller as its owner would at the machine (the daemon
-  // only holds the port while it runs something).
+  // Sends `$n=v` settings to the controller as its owner would at the machine (before the
+  // daemon's first job or command: it opens the port on first need and keeps it).
   void configure_controller(const std::vector<std::string>& settings) {
     auto port = atelier::SerialTransport::open(link.string());
     std::string got;
@@ -395,13 +395,7 @@ void write_square(const fs::path& file) {
                                   "stroke=\"#ff0000\" fill=\"none\"/></svg>\n");
 }
 
-// DISABLED: fails today, for a reason outside the test. atelier-laser-emu restarts the board when
-// the host closes the port (an Uno's DTR auto-reset), and LaserDevice opens and closes the port
-// for each job and each operator command, so the restart between commands clears the ALARM:3
-// lock and puts the head back at machine 0. The fix is for the device to keep its connection
-// open between commands and jobs (as LightBurn does); the unit tests on the controller model
-// (LaserDevice*, which does not restart on reopen) pass.
-TEST(E2ELaser, DISABLED_AfterACancelInMotionLaserUnlockLetsTheNextJobComplete) {
+TEST(E2ELaser, AfterACancelInMotionLaserUnlockLetsTheNextJobComplete) {
   // GRBL's stock 10 mm/s^2: the cancel resets a moving head, which leaves the ALARM:3 lock
   // (the position may be lost). The operator unlocks it from atelierctl, and the next job runs.
   LaserRig rig({}, kSlowCutLayers, 0.25);
@@ -443,13 +437,7 @@ TEST(E2ELaser, DISABLED_AfterACancelInMotionLaserUnlockLetsTheNextJobComplete) {
   ASSERT_TRUE(rig.wait_state("square.svg", "completed")) << rig.job("square.svg").dump() << rig.daemon->log();
 }
 
-// DISABLED: fails today, for a reason outside the test. atelier-laser-emu restarts the board when
-// the host closes the port (an Uno's DTR auto-reset), and LaserDevice opens and closes the port
-// for each job and each operator command, so the restart between commands clears the ALARM:3
-// lock and puts the head back at machine 0. The fix is for the device to keep its connection
-// open between commands and jobs (as LightBurn does); the unit tests on the controller model
-// (LaserDevice*, which does not restart on reopen) pass.
-TEST(E2ELaser, DISABLED_StartFromHereAfterAJogBurnsTheJobOffsetByTheJog) {
+TEST(E2ELaser, StartFromHereAfterAJogBurnsTheJobOffsetByTheJog) {
   // Homing and soft limits off (as the test needs them, whatever the emulator's stock): the
   // power-up position is the bed's corner, and the head is jogged from there.
   LaserRig rig({});

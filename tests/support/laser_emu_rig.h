@@ -1,6 +1,7 @@
 // Test helpers for the laser emulator: a scripted host around the pure GRBL controller model,
 // on a virtual microsecond clock (no sleeps); and the model as the far end of a simulated link
-// (EmulatedLaserPeer), so a grbl::Session or a LaserDevice talks to it on a FakeClock.
+// (EmulatedLaserPeer), so a grbl::Session or a LaserDevice talks to it on a FakeClock; that
+// peer can restart on a reopened port as an Uno does (reopened()).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -96,6 +97,14 @@ class EmulatedLaserPeer : public SimulatedPeer {
   std::vector<Segment> segments() const {
     std::lock_guard lock(mu_);
     return record_.segments;
+  }
+  // The host closed the port and opened it again at `now`: an Uno's DTR auto-reset restarts
+  // the board (position, parser modes and an alarm lock gone; Controller::hangup), and the
+  // restarted board's banner follows.
+  void reopened(Clock::time_point now) {
+    std::lock_guard lock(mu_);
+    ctl_.hangup(us(now));
+    ctl_.host_connected(us(now));
   }
 
   void receive(const uint8_t* data, size_t size, Clock::time_point now) override {

@@ -1,9 +1,11 @@
 // The laser device against the emulator's controller model on a simulated link and a FakeClock:
-// operator commands between jobs (the console, unlock, jog) run on the device's worker and are
-// logged in the store; a held job says where it is held; a sidecar's [laser] keys are the job's
+// one connection kept across jobs, frames and commands (the model restarts on a reopened port,
+// as an Uno does); operator commands between jobs (the console, unlock, jog) run on the
+// device's worker and are logged in the store; a held job says where it is held; a sidecar's [laser] keys are the job's
 // (check_first, start_from); an alarm's reason names the line and what to do.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <fstream>
 #include <memory>
@@ -37,8 +39,12 @@ struct LaserRig {
   JobService jobs{store, layout, [](const JobChange&) {}};
   laser_emu::ControllerOptions emu;
   std::shared_ptr<EmulatedLaserPeer> laser;  // one controller for the device's whole life
+  std::atomic<int> opens{0};                 // times the device opened the port
+  // The link opened last (valid while the device keeps it; a test may close() it).
+  std::atomic<SimulatedTransport*> last_link{nullptr};
   std::unique_ptr<LaserDevice> device;
 
+  // Like an Uno, the controller restarts whenever the port is opened again (DTR auto-reset).
   explicit LaserRig(laser_emu::ControllerOptions o = {}, LaserOptions options = {}) : emu(o) {
     jobs.ensure_layout();
     laser = std::make_shared<EmulatedLaserPeer>(clock.now(), emu);
@@ -48,7 +54,13 @@ struct LaserRig {
     d.port = "/dev/ttyLASER";
     d.kinds = {"cut"};
     device = std::make_unique<LaserDevice>(
-        d, jobs, [this](const std::string&) { return std::make_unique<SimulatedTransport>(laser, clock); },
+        d, jobs,
+        [this](const std::string&) {
+          if (opens++ > 0) laser->reopened(clock.now());
+          auto link = std::make_unique<SimulatedTransport>(laser, clock);
+          last_link = link.get();
+          return link;
+        },
         [port = d.port]() -> std::optional<std::string> { return port; }, options, clock);
     device->start_worker();
     for (int i = 0; i < 500 && device->describe().value("state", "") != "online"; ++i)
@@ -219,6 +231,49 @@ TEST(LaserDeviceAlarm, TheReasonNamesTheLineGrblWasAtAndWhatToDoNeverSafelyUnloc
   EXPECT_EQ(m[2].str(), "204") << j.reason;  // the program's lines, comments aside
   EXPECT_NE(j.reason.find(grbl::alarm_advice(2)), std::string::npos) << j.reason;
   EXPECT_EQ(j.reason.find("safely"), std::string::npos) << j.reason;
+}
+
+TEST(LaserDeviceLink, JobsAFrameAndCommandsShareOneConnectionAndNothingResetsAMachineAtRest) {
+  LaserRig rig;
+  ASSERT_EQ(rig.run(rig.ready_job()).state, JobState::completed);
+  rig.send("$I");
+  const int64_t framed = rig.ready_job();
+  rig.device->frame(framed);
+  for (int i = 0; i < 5000 && rig.device->describe().value("last", "").find("framed") == std::string::npos; ++i)
+    std::this_thread::sleep_for(2ms);
+  EXPECT_NE(rig.device->describe().value("last", "").find("framed"), std::string::npos) << rig.device->describe().dump();
+  const Job second = rig.run(framed);
+  ASSERT_EQ(second.state, JobState::completed) << second.reason;
+  EXPECT_EQ(rig.opens.load(), 1);
+  // A soft reset re-runs the user's $N startup lines: none at a job's start on a machine at rest.
+  EXPECT_EQ(rig.laser->received().find('\x18'), std::string::npos);
+}
+
+TEST(LaserDeviceLink, ALinkLostBetweenJobsIsOpenedAnewForTheNextJob) {
+  LaserRig rig;
+  ASSERT_EQ(rig.run(rig.ready_job()).state, JobState::completed);
+  rig.last_link.load()->disconnect();  // the cable, pulled and plugged back while idle
+  const Job next = rig.run(rig.ready_job());
+  EXPECT_EQ(next.state, JobState::completed) << next.reason;
+  EXPECT_EQ(rig.opens.load(), 2);
+}
+
+TEST(LaserDeviceLink, AnAlarmLockRaisedInOneCommandIsStillThereForTheNextJobAndCommand) {
+  laser_emu::ControllerOptions o;
+  o.alarm_at_line = 4;  // $I, $$ and $# at connect, then the console's line
+  o.alarm_code = 1;     // a hard limit: GRBL comes back from the reset locked
+  LaserRig rig(o);
+  EXPECT_NE(error_of([&] { rig.send("G0X5"); }).find("ALARM:1"), std::string::npos);
+  // A reopened port would have restarted the board and lost the lock; the kept link has it.
+  const Job locked = rig.run(rig.ready_job());
+  EXPECT_EQ(locked.state, JobState::failed);
+  EXPECT_NE(locked.reason.find("locked by an alarm"), std::string::npos) << locked.reason;
+  EXPECT_TRUE(rig.laser->segments().empty());
+  const nlohmann::json unlock = rig.send("$X");
+  EXPECT_NE(unlock["lines"][0]["reply"].dump().find("[MSG:Caution: Unlocked]"), std::string::npos) << unlock.dump();
+  const Job after = rig.run(rig.ready_job());
+  EXPECT_EQ(after.state, JobState::completed) << after.reason;
+  EXPECT_EQ(rig.opens.load(), 1);
 }
 
 }  // namespace

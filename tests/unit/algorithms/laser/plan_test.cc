@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "algorithms/laser/motion_planner.h"
 #include "algorithms/laser/plan.h"
 #include "tests/support/laser_test_shapes.h"
 
@@ -257,15 +258,46 @@ TEST(LaserGcode, BedCoordinatesMapDesignCoordinates) {
   }
 }
 
-TEST(LaserGcode, TimeEstimateFollowsFeeds) {
+TEST(LaserGcode, TimeEstimateFollowsGrblsPlannerNotLengthOverFeed) {
   Layer l = layer("c", Mode::cut, {Path{{{0, 300}, {10, 300}}, false}});
   l.settings.speed_mm_min = 600;
   Machine m;  // head at bed (0, 0) = design (0, 400): 100 mm of travel
   m.travel_mm_min = 6000;
+  m.accel_mm_s2 = 500;
   Job job = plan_job({l}, m);
   EXPECT_NEAR(job.travel_length_mm, 100, 1e-9);
-  EXPECT_NEAR(job.estimated_s, 1.0 + 1.0, 1e-9) << "10 mm at 600 mm/min + 100 mm at 6000";
+  // The travel from rest: 10 mm up to 100 mm/s and 10 mm down again take 0.4 s, 80 mm at speed
+  // 0.8 s; the 90 degree corner into the burn is slow (junction deviation 0.01 mm), then 10 mm
+  // at 10 mm/s. Length / feed would say 1.0 + 1.0 s.
+  MotionSettings ms;
+  ms.max_rate_mm_min = {6000, 6000, 500};
+  ms.accel_mm_s2 = {500, 500, 100};
+  std::vector<PlannedMove> moves(2);
+  moves[0].target = {0, 100, 0};
+  moves[0].rapid = true;
+  moves[0].from_rest = true;
+  moves[1].target = {10, 100, 0};
+  moves[1].feed_mm_min = 600;
+  const std::vector<double> s = move_seconds(moves, ms);
+  EXPECT_NEAR(job.estimated_s, s[0] + s[1], 1e-9);
+  EXPECT_NEAR(s[0], 1.2, 0.01);
+  EXPECT_GT(job.estimated_s, 2.2);
   EXPECT_NEAR(job.layers[0].time_s, job.estimated_s, 1e-9);
+}
+
+TEST(LaserGcode, ShortMovesAndCornersMakeTheEstimateLongerThanLengthOverFeed) {
+  // A zig-zag of 0.5 mm strokes at 3000 mm/min and GRBL's stock 10 mm/s^2: the head never
+  // gets near its feed.
+  std::vector<Point> zig;
+  for (int i = 0; i <= 100; ++i) zig.push_back({50 + 0.5 * i, 200 + (i % 2) * 0.5});
+  Layer l = layer("e", Mode::engrave, {Path{zig, false}});
+  l.settings.speed_mm_min = 3000;
+  Machine m;
+  m.accel_mm_s2 = 10;
+  const Job job = plan_job({l}, m);
+  const double burn_by_feed = job.engrave_length_mm / 3000 * 60;
+  const double travel_by_rate = job.travel_length_mm / m.travel_mm_min * 60;
+  EXPECT_GT(job.estimated_s, 3 * (burn_by_feed + travel_by_rate)) << job.estimated_s;
 }
 
 TEST(LaserGcode, NumbersAreShort) {

@@ -4,7 +4,8 @@
 // host sent, so the tests assert what a user of a real laser would notice: nothing overflows,
 // errors name the line, cancel stops the beam.
 //
-// Program pauses (M0) on the laser emulator's controller model: the session waits at the M0 for
+// A session kept open between jobs (revalidate) and program pauses (M0) on the laser
+// emulator's controller model. Program pauses: the session waits at the M0 for
 // the operator and says why; an operator's own hold is still resumed as before.
 #include <gtest/gtest.h>
 
@@ -23,6 +24,7 @@
 #include "drivers/grbl/program.h"
 #include "drivers/grbl/session.h"
 #include "drivers/simulated_transport.h"
+#include "tests/support/laser_emu_rig.h"
 #include "tools/laser_emu/controller.h"
 
 namespace atelier::grbl {
@@ -1035,6 +1037,58 @@ TEST(GrblReconnect, AControllerStillRunningAnEarlierJobIsSoftResetAndReportedLoc
   EXPECT_EQ(laser->laser_s(), 0) << "the earlier job still burns";
   EXPECT_TRUE(info.alarm_locked) << "reset in motion: ALARM:3, the position may be lost";
   EXPECT_LE(clock.now() - t0, Timeouts{}.banner + Timeouts{}.stop + Timeouts{}.reply);
+}
+
+// ---- A session kept open between jobs (LaserDevice keeps its connection) ----
+
+struct KeptSession {
+  FakeClock clock;
+  std::shared_ptr<laser_emu::testing::EmulatedLaserPeer> laser =
+      std::make_shared<laser_emu::testing::EmulatedLaserPeer>(clock.now());
+  SimulatedTransport link{laser, clock};
+  Session s{link, Timeouts{}, clock};
+};
+
+TEST(GrblKeptSession, RevalidateReReadsSettingsAndOffsetsWithoutAResetOrTheBannerWait) {
+  KeptSession k;
+  k.s.connect();
+  // A console line changes the travel and the work zero between two jobs.
+  k.s.console("$130=250");
+  k.s.console("G10L20P1X-5Y-7");
+  const size_t mark = k.laser->received().size();
+  const auto t0 = k.clock.now();
+  const MachineInfo info = k.s.revalidate();
+  EXPECT_DOUBLE_EQ(info.max_travel_x, 250);
+  EXPECT_NEAR(k.s.work_offset()[0], 5, 1e-3);
+  EXPECT_NEAR(k.s.work_offset()[1], 7, 1e-3);
+  EXPECT_LT(k.clock.now() - t0, Timeouts{}.banner / 5) << "no banner wait on a kept link";
+  const std::string sent = k.laser->received().substr(mark);
+  EXPECT_NE(sent.find("$$\n"), std::string::npos) << sent;
+  EXPECT_NE(sent.find("$#\n"), std::string::npos) << sent;
+  EXPECT_EQ(sent.find("$I\n"), std::string::npos) << sent;
+  EXPECT_EQ(k.laser->received().find('\x18'), std::string::npos) << "a reset re-runs the $N startup lines";
+}
+
+TEST(GrblKeptSession, ABannerSeenSinceTheLastUseMeansTheBoardRestartedAndIsSetUpAfresh) {
+  KeptSession k;
+  k.s.connect();
+  k.s.jog(40, 0, 3000);
+  ASSERT_NEAR(k.s.query_status().x, 40, 0.01);
+  k.laser->reopened(k.clock.now());  // a reset button, a USB hiccup: the head's position is gone
+  k.clock.advance(100ms);            // the next job comes later: the banner has arrived by then
+  const size_t mark = k.laser->received().size();
+  const MachineInfo info = k.s.revalidate();
+  EXPECT_EQ(info.version, "1.1h.20190830");
+  EXPECT_NE(k.laser->received().substr(mark).find("$I\n"), std::string::npos) << "not set up afresh";
+  EXPECT_NEAR(k.s.last_status().x, 0, 0.01);
+  EXPECT_EQ(k.laser->received().find('\x18'), std::string::npos);
+}
+
+TEST(GrblKeptSession, RevalidateOnALostLinkThrowsLinkLost) {
+  KeptSession k;
+  k.s.connect();
+  k.link.disconnect();
+  EXPECT_THROW(k.s.revalidate(), LinkLost);
 }
 
 }  // namespace
