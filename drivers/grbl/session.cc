@@ -396,6 +396,9 @@ void Session::jog(double dx_mm, double dy_mm, double feed_mm_min) {
   if (!(feed_mm_min > 0)) throw std::invalid_argument("a jog needs a feed above 0 mm/min");
   char buf[96];
   std::snprintf(buf, sizeof buf, "$J=G91G21X%.3fY%.3fF%.0f", dx_mm, dy_mm, feed_mm_min);
+  // A jog runs under the modal spindle state: after a console M3/M4 S.. it would burn a line
+  // all along the way. M5 first, so a jog only ever moves the head.
+  command("M5");
   command(buf);  // ok: the jog was accepted (error:15 past the travel, error:8 not Idle)
   // Time for the distance at the feed, plus room for acceleration.
   const double seconds = std::hypot(dx_mm, dy_mm) / feed_mm_min * 60.0;

@@ -792,6 +792,19 @@ TEST(GrblSession, HomeUnlocksAndJogWaitsForTheMoveToEnd) {
   EXPECT_NE(index_of(rig.fake->commands(), "$J=G91G21X10.000Y-5.000F1500"), rig.fake->commands().size());
 }
 
+TEST(GrblSession, AJogTurnsTheBeamOffFirstSoAModalM3CannotBurnAlongTheWay) {
+  Rig rig;
+  Session& s = rig.s;
+  s.connect();
+  s.console("M3 S1000");  // an operator's console line leaves the spindle modal on
+  s.jog(5, 0, 1200);
+  const auto& ev = rig.fake->events();
+  const size_t m5 = index_of(ev, "line:M5", index_of(ev, "line:M3 S1000"));
+  const size_t jog = index_of(ev, "line:$J=G91G21X5.000Y0.000F1200");
+  ASSERT_LT(jog, ev.size());
+  EXPECT_LT(m5, jog);  // the beam was off before the jog line reached GRBL
+}
+
 TEST(GrblSession, JogWhileLockedIsRefusedWithTheGrblError) {
   FakeScript script;
   script.start_in_alarm = true;
