@@ -60,7 +60,10 @@ namespace {
 
 struct KnitterRig {
   TempDir tmp;
-  atelier::test::KnitEmulator emulator;
+  // A knitter who hears no beep waits 5 s before pushing anyway (the emulator's default, 2 passes
+  // of 3 ms, is shorter than a loaded machine's scheduling delay: the job then fails as "pushed
+  // too soon", which is the emulator's impatience, not the daemon's fault).
+  atelier::test::KnitEmulator emulator{3, {"--fault", "knitter-patience-ms=5000"}};
   std::unique_ptr<DaemonProcess> daemon;
 
   explicit KnitterRig(const std::string& lace_toml) {
