@@ -116,7 +116,9 @@ std::vector<std::vector<cv::Point2f>> fill_sections(const cv::Mat1b& mask, doubl
       }
       add(start, y);
       const double off = static_cast<double>(r.row % stagger) / stagger * max_px;
-      if (forward) {
+      if (std::abs(end - start) <= max_px / (1 - kLengthTolerance)) {
+        // A row no longer than one stitch is one stitch (a grid point would halve it).
+      } else if (forward) {
         for (double g = std::ceil((start - off) / max_px) * max_px + off; g < end; g += max_px)
           if (g - start >= min_gap && end - g >= min_gap) add(g, y);
       } else {

@@ -5,6 +5,16 @@
 #include <cmath>
 
 namespace atelier::embroidery {
+
+bool stitch_longer_than(cv::Point2d a, cv::Point2d b, double min_mm) {
+  if (!(cv::norm(b - a) > min_mm)) return false;
+  // The files hold positions rounded to 0.1 mm (stitch_plan.h): a 0.14 mm stitch can be
+  // written as 0.1 mm.
+  const cv::Point2d ra(std::round(a.x * 10) / 10, std::round(a.y * 10) / 10);
+  const cv::Point2d rb(std::round(b.x * 10) / 10, std::round(b.y * 10) / 10);
+  return cv::norm(rb - ra) > min_mm + 1e-9;
+}
+
 namespace {
 
 // The point `at` mm along the polyline pts[0], pts[1], ... (clamped to its end).
@@ -36,15 +46,14 @@ std::vector<cv::Point2d> tie(It first, It last, double min_mm) {
     const double s = reach / 2;
     const cv::Point2d half = along(first, last, s), whole = along(first, last, 2 * s);
     // A path that doubles back (a satin tip's short spans) can bring these back near home.
-    if (cv::norm(half - home) > min_mm && cv::norm(whole - half) > min_mm) return {half, whole, half, home};
+    if (stitch_longer_than(home, half, min_mm) && stitch_longer_than(half, whole, min_mm))
+      return {half, whole, half, home};
   }
   // Short or folded: back and forth on the way to the first point clear of home.
   for (It it = std::next(first); it != last; ++it) {
     const double d = cv::norm(*it - home);
-    if (d > min_mm) {
-      const cv::Point2d t = home + (*it - home) * (std::min(d, kTieStitchMm) / d);
-      return {t, home, t, home};
-    }
+    const cv::Point2d t = d > 0 ? home + (*it - home) * (std::min(d, kTieStitchMm) / d) : home;
+    if (stitch_longer_than(home, t, min_mm)) return {t, home, t, home};
   }
   return {};  // the whole run lies within min_mm of its start
 }
@@ -55,7 +64,7 @@ int drop_tiny_stitches(std::vector<cv::Point2d>& run, double min_mm) {
   if (run.size() < 2) return 0;
   size_t kept = 1;
   for (size_t i = 1; i < run.size(); ++i)
-    if (cv::norm(run[i] - run[kept - 1]) > min_mm) run[kept++] = run[i];
+    if (stitch_longer_than(run[kept - 1], run[i], min_mm)) run[kept++] = run[i];
   const int dropped = static_cast<int>(run.size() - kept);
   run.resize(kept);
   return dropped;

@@ -13,8 +13,12 @@ namespace atelier::embroidery {
 // ahead, a whole one, half back and home again: four stitches of at most 0.75 mm.
 inline constexpr double kTieStitchMm = 0.75;
 
-// Drops every needle point within min_mm of the last one kept (the first is always kept).
-// Points are dropped, never moved: every kept point is one the generator placed in its
+// True when the stitch a -> b is longer than min_mm both in mm and as the files write it
+// (positions rounded to 0.1 mm).
+bool stitch_longer_than(cv::Point2d a, cv::Point2d b, double min_mm);
+
+// Drops every needle point whose stitch from the last one kept is not longer than min_mm
+// (stitch_longer_than); the first is always kept. Points are dropped, never moved: every kept point is one the generator placed in its
 // region. Returns the number dropped.
 int drop_tiny_stitches(std::vector<cv::Point2d>& run, double min_mm);
 
@@ -26,7 +30,7 @@ double run_length(const std::vector<cv::Point2d>& run);
 // s = min(kTieStitchMm, length / 2) with the length taken up to 2 kTieStitchMm. Where that
 // would make a tie stitch min_mm or shorter (a short or folded path) the tie goes back and
 // forth twice towards the first needle point farther than min_mm, at most kTieStitchMm:
-// no tie stitch is min_mm or shorter either. Empty when every point of the run lies within
+// no tie stitch is min_mm or shorter either (stitch_longer_than). Empty when every point of the run lies within
 // min_mm of run[0] (nothing to tie: the caller drops such a run).
 std::vector<cv::Point2d> tie_in(const std::vector<cv::Point2d>& run, double min_mm);
 

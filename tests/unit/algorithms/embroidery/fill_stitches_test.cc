@@ -116,13 +116,15 @@ void expect_no_split_stitches(double angle) {
     // Two stitches along one row, in the same direction.
     if (std::abs((b - a).dot(across)) > 0.05 || std::abs((c - b).dot(across)) > 0.05) continue;
     if (ab < 1e-3 || bc < 1e-3 || (b - a).dot(c - b) <= 0) continue;
+    // Away from the border: at the corners, travel between sections may continue a row's line.
+    if (b.x < 16 || b.y < 16 || b.x > m.cols - 17 || b.y > m.rows - 17) continue;
     ++along_row;
     if (ab + bc <= max_px + 1e-3) ++split;
   }
   EXPECT_GT(along_row, 500);
   EXPECT_EQ(split, 0) << "of " << along_row << " pairs of stitches along a row";
   // Needle drops per row: the row's length / max, plus its two ends and the step from the
-  // previous row (-1 .. +4 for where the stagger puts the first grid point).
+  // previous row and to the next (-1 .. +5 for where the stagger puts the first grid point).
   struct Row {
     int n = 0;
     double lo = 1e9, hi = -1e9;
@@ -141,7 +143,7 @@ void expect_no_split_stitches(double angle) {
     if (len < 10 * max_px) continue;  // short corner rows: their ends dominate
     ++checked;
     EXPECT_GE(r.n, len / max_px - 1) << "row " << k << " of " << len << " px";
-    EXPECT_LE(r.n, len / max_px + 4) << "row " << k << " of " << len << " px";
+    EXPECT_LE(r.n, len / max_px + 5) << "row " << k << " of " << len << " px";
   }
   EXPECT_GT(checked, 20);
 }

@@ -218,8 +218,20 @@ TEST(EmbroideryStitches, NoStitchOfTheMinimumLengthOrLessOnARealImage) {
     ++n;
     if (l <= dp.stitches.min_stitch_mm + 1e-9) ++tiny;
   }
+  // And as the files write them: positions rounded to 0.1 mm.
+  int tiny_in_file = 0;
+  const StitchPoint* prev = nullptr;
+  for (const StitchPoint& q : d.plan.points) {
+    if (!is_positioned(q.kind)) continue;
+    if (prev && q.kind == StitchKind::stitch) {
+      const FileUnits a = to_file_units(*prev), b = to_file_units(q);
+      if (std::hypot(static_cast<double>(b.x - a.x), static_cast<double>(b.y - a.y)) <= 1.0) ++tiny_in_file;
+    }
+    prev = &q;
+  }
   EXPECT_GT(n, 10000);
   EXPECT_EQ(tiny, 0) << "of " << n << " stitches";
+  EXPECT_EQ(tiny_in_file, 0) << "of " << n << " stitches, in 0.1 mm file units";
   expect_every_run_tied(d.plan, dp.stitches.min_stitch_mm);
   const StitchStats st = stitch_stats(d.plan);
   std::printf("fruits.jpg at %.0f mm: %d stitches, %d trims, %d colour changes\n", d.width_mm, st.stitches, st.trims,
