@@ -45,6 +45,8 @@ std::uint32_t rgb(const cv::Vec3b& bgr) {
 // A hidden travel longer than this is not worth it: about the machine time of a trim (a
 // trim and its ties take some seconds, 100 mm of 1.5 mm running stitches as long).
 constexpr double kMaxHiddenTravelMm = 100;
+// Regions tried for a hidden way before the nearest is taken with a trim.
+constexpr size_t kCandidates = 8;
 
 // One continuous thread: needle points from its first (where a jump brings the needle) to
 // its last (where the thread is cut, changed or ends).
@@ -151,15 +153,28 @@ StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& dir
       for (int i : order)
         if (block_of[i] == static_cast<int>(b) && layer(seg.regions[i].style) == l) remaining.push_back(i);
       while (!remaining.empty()) {
-        // Nearest region start from the needle (squared distances: quadratic in a colour's
-        // region count, on one thread; a few thousand regions take milliseconds).
-        size_t best = 0;
-        double best_d2 = 1e36;
+        // The nearest region start from the needle that hidden travel reaches, among the
+        // kCandidates nearest; else the nearest (a trim). Distances are a scan, quadratic in
+        // a colour's region count on one thread (a few thousand regions: milliseconds); at
+        // most kCandidates searches per region.
+        std::vector<std::pair<double, size_t>> near;
+        near.reserve(remaining.size());
         for (size_t t = 0; t < remaining.size(); ++t) {
           const StitchPoint& s = stitches[remaining[t]].front();
-          const double dx = s.x_mm - needle.x, dy = s.y_mm - needle.y, d2 = dx * dx + dy * dy;
-          if (d2 < best_d2) best_d2 = d2, best = t;
+          const double dx = s.x_mm - needle.x, dy = s.y_mm - needle.y;
+          near.emplace_back(dx * dx + dy * dy, t);
         }
+        const size_t k = std::min(near.size(), kCandidates);
+        std::partial_sort(near.begin(), near.begin() + static_cast<long>(k), near.end());
+        size_t best = near[0].second;
+        if (open && near[0].first > params.trim_jump_mm * params.trim_jump_mm)
+          for (size_t c = 0; c < k; ++c) {
+            const StitchPoint& s = stitches[remaining[near[c].second]].front();
+            if (hidden.path(needle, {s.x_mm, s.y_mm}, path) && run_length(path) <= kMaxHiddenTravelMm) {
+              best = near[c].second;
+              break;
+            }
+          }
         const std::vector<StitchPoint>& seq = stitches[remaining[best]];
         remaining.erase(remaining.begin() + static_cast<long>(best));
         // The region's own trims become moves too: a jump inside a region may have a hidden
