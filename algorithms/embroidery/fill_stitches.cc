@@ -91,8 +91,10 @@ std::vector<std::vector<cv::Point2f>> fill_sections(const cv::Mat1b& mask, doubl
   }
 
   // Needle points: a grid along x shifted per row; no point nearer than a fifth of a stitch
-  // to a row end (no tiny stitches).
+  // to a row end (no tiny stitches). The grid is a hair (kLengthTolerance) under max_px so
+  // that float32 rounding never makes a grid stitch longer than max_px.
   const double min_gap = 0.2 * max_px;
+  max_px *= 1 - kLengthTolerance;
   for (const std::vector<Run>& sec : sections) {
     std::vector<cv::Point2f> poly;
     auto add = [&](double x, double y) { poly.push_back(back(x, y)); };
@@ -114,7 +116,9 @@ std::vector<std::vector<cv::Point2f>> fill_sections(const cv::Mat1b& mask, doubl
       }
       add(start, y);
       const double off = static_cast<double>(r.row % stagger) / stagger * max_px;
-      if (forward) {
+      if (std::abs(end - start) <= max_px / (1 - kLengthTolerance)) {
+        // A row no longer than one stitch is one stitch (a grid point would halve it).
+      } else if (forward) {
         for (double g = std::ceil((start - off) / max_px) * max_px + off; g < end; g += max_px)
           if (g - start >= min_gap && end - g >= min_gap) add(g, y);
       } else {

@@ -23,7 +23,9 @@ class InsideTravel {
   InsideTravel(const cv::Mat1b& mask, double cell_px);
   // The path from a to b (both included), or false when none was found (a neck narrower
   // than a cell, or a or b out of sight of every nearby inside cell).
-  bool path(cv::Point2f a, cv::Point2f b, std::vector<cv::Point2f>& out) const;
+  // margin_cells >= 0 limits the search to the cells' box around a and b grown by that many
+  // cells (the planner's design-wide searches stay near the move); -1: the whole grid.
+  bool path(cv::Point2f a, cv::Point2f b, std::vector<cv::Point2f>& out, int margin_cells = -1) const;
   bool line_inside(cv::Point2f a, cv::Point2f b) const;
 
  private:
@@ -36,6 +38,10 @@ class InsideTravel {
   mutable unsigned search_ = 0;
   bool nearest_cell(cv::Point2f p, cv::Point& cell) const;
 };
+
+// Relative slack when a run is cut into stitches of at most max_px: a run up to
+// max_px * (1 + kLengthTolerance) is one stitch (float32 points cannot be exact).
+inline constexpr double kLengthTolerance = 1e-4;
 
 // One region's needle sequence, built in mask pixels.
 class StitchSink {

@@ -32,7 +32,10 @@ struct StitchParams {
   double running_stitch_mm = 1.5;
   double edge_satin_min_mm = 1.0;  // strokes at least this wide get a narrow satin, thinner a running stitch
   // travel
-  double trim_jump_mm = 3.0;  // moves longer than this inside no region: jump with a trim
+  double trim_jump_mm = 3.0;  // moves longer than this with no hidden way: jump with a trim
+  // Stitches this short or shorter are dropped (Ink/Stitch's default minimum stitch length);
+  // tie stitches are never this short either.
+  double min_stitch_mm = 0.1;
   double hoop_width_mm = 100, hoop_height_mm = 100;
 };
 
@@ -43,18 +46,23 @@ class HoopTooSmall : public BadInput {
 
 // The design's stitches: colour blocks in palette order of first use (regions taken in layer
 // order: long-short, then satin, then edge); inside a block the layers in that order and,
-// within a layer, regions nearest first from the needle. A move to the next region longer
-// than trim_jump_mm is trim + jump (a zero-length stitch then anchors the thread), a shorter
-// one is a stitch; a colour block starts with trim, color_change and a jump. The plan ends
-// with `end`. Lock stitches: before every trim, colour change and the end the needle goes back
-// 0.5 mm along the last stitch and returns; after every jump it goes 0.5 mm ahead along the
-// next stitch and returns. colors_rgb: one 0xRRGGBB per block. directions: radians per region, indexed like
-// seg.regions (fill angle of long-short regions; satin and edge regions use theirs only when
-// they are too small for a skeleton and are filled instead). Regions with an empty mask are
-// skipped.
+// within a layer, regions nearest first from the needle. Moves between regions, and a
+// region's own jumps, are running stitches (running_stitch_mm) through pixels that this
+// block sews or a later one covers with fill or satin (hidden: travel.h) when there is such
+// a way of at most 100 mm,
+// else one stitch when at most trim_jump_mm, else the thread is cut: trim and jump. Each
+// run of thread (between a jump and the next trim, colour change or the end) has its
+// stitches of min_stitch_mm or less dropped, then a tie-in and a tie-off (ties.h: four
+// stitches of at most 0.75 mm along the run's own path); a run that would be nothing but
+// ties (all of it within min_stitch_mm of one point) is left out. A colour block starts
+// with trim, color_change and a jump; the plan ends with `end`. colors_rgb: one 0xRRGGBB
+// per block. directions: radians per region, indexed like seg.regions (fill angle of
+// long-short regions; satin and edge regions use theirs only when they are too small for
+// a skeleton and are filled instead). Regions with an empty mask are skipped.
 // Throws HoopTooSmall("design is W x H mm, the hoop is w x h mm") when the extent of the
 // positioned points (max - min on each axis) exceeds the hoop; std::invalid_argument for
-// non-positive px_per_mm, spacings or lengths, or directions of the wrong size.
+// non-positive px_per_mm, spacings or lengths, min_stitch_mm negative or not below the fill
+// and running stitch lengths, or directions of the wrong size.
 StitchPlan plan_stitches(const Segmentation& seg, const std::vector<double>& directions,
                          const StitchParams& params);
 

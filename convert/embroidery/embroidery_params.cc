@@ -55,6 +55,7 @@ EmbroideryParams read_embroidery_params(const toml::table& table, const std::str
   s.edge_satin_min_mm = r.get_double("edge_satin_min_mm", s.edge_satin_min_mm, 0, 10);
   // Moves up to trim_jump_mm are sewn as one stitch: no longer than a DST record may be.
   s.trim_jump_mm = r.get_double("trim_jump_mm", s.trim_jump_mm, 0.5, 12);
+  s.min_stitch_mm = r.get_double("min_stitch_mm", s.min_stitch_mm, 0, 0.45);
   s.hoop_width_mm = r.get_double("hoop_width_mm", s.hoop_width_mm, 10, 2000);
   s.hoop_height_mm = r.get_double("hoop_height_mm", s.hoop_height_mm, 10, 2000);
   // A satin span is the column plus pull compensation on both sides: one DST record at most.

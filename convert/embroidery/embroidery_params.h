@@ -22,7 +22,8 @@
 //   satin_max_mm = 8 [1, 12]           satin_underlay = true
 //                                      (satin_max_mm + 2 x satin_pull_comp_mm <= 12: one stitch)
 //   running_stitch_mm = 1.5 [0.5, 12]  edge_satin_min_mm = 1 [0, 10]
-//   trim_jump_mm = 3 [0.5, 12]         longer moves between regions are jumps with a trim
+//   trim_jump_mm = 3 [0.5, 12]         longer moves with no hidden way are jumps with a trim
+//   min_stitch_mm = 0.1 [0, 0.45]      stitches this short or shorter are dropped
 //   hoop_width_mm = 100, hoop_height_mm = 100 [10, 2000]   the machine's sewing field
 //   textures = FOLDER                  user reference textures (see embroidery_job.h);
 //                                      absent = the procedural ones

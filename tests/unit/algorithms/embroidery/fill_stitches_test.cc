@@ -94,5 +94,64 @@ TEST(EmbroideryStitches, FillRowsAreStaggered) {
   EXPECT_EQ(aligned, 0) << "needle points of neighbouring rows line up";
 }
 
+// Issue 21 point 5: a fill stitch of exactly fill_max_stitch_mm between two grid points came
+// out as two collinear halves (float32 points and ceil(d / max - 1e-9)): twice the needle
+// drops and a broken stagger. On a large rectangle, along every row, no two consecutive
+// stitches are collinear with a sum within the maximum, and a row of length W has about
+// W / max needle points.
+void expect_no_split_stitches(double angle) {
+  SCOPED_TRACE(angle);
+  const cv::Mat1b m(480, 640, uchar(255));  // 80 x 60 mm
+  StitchParams p = params8();
+  p.fill_underlay = false;
+  const std::vector<cv::Point2f> px = to_px(fill_region(m, {0, 0}, angle, p));
+  ASSERT_GT(px.size(), 1000u);
+  const cv::Point2f along(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
+  const cv::Point2f across(-along.y, along.x);
+  const double max_px = p.fill_max_stitch_mm * kPpm;
+  int along_row = 0, split = 0;
+  for (size_t i = 0; i + 2 < px.size(); ++i) {
+    const cv::Point2f a = px[i], b = px[i + 1], c = px[i + 2];
+    const double ab = cv::norm(b - a), bc = cv::norm(c - b);
+    // Two stitches along one row, in the same direction.
+    if (std::abs((b - a).dot(across)) > 0.05 || std::abs((c - b).dot(across)) > 0.05) continue;
+    if (ab < 1e-3 || bc < 1e-3 || (b - a).dot(c - b) <= 0) continue;
+    // Away from the border: at the corners, travel between sections may continue a row's line.
+    if (b.x < 16 || b.y < 16 || b.x > m.cols - 17 || b.y > m.rows - 17) continue;
+    ++along_row;
+    if (ab + bc <= max_px + 1e-3) ++split;
+  }
+  EXPECT_GT(along_row, 500);
+  EXPECT_EQ(split, 0) << "of " << along_row << " pairs of stitches along a row";
+  // Needle drops per row: the row's length / max, plus its two ends and the step from the
+  // previous row and to the next (-1 .. +5 for where the stagger puts the first grid point).
+  struct Row {
+    int n = 0;
+    double lo = 1e9, hi = -1e9;
+  };
+  std::map<long, Row> rows;
+  const double v0 = px[0].dot(across);
+  for (const cv::Point2f& q : px) {
+    Row& r = rows[std::lround((q.dot(across) - v0) / (p.fill_row_spacing_mm * kPpm))];
+    ++r.n;
+    r.lo = std::min(r.lo, static_cast<double>(q.dot(along)));
+    r.hi = std::max(r.hi, static_cast<double>(q.dot(along)));
+  }
+  int checked = 0;
+  for (const auto& [k, r] : rows) {
+    const double len = r.hi - r.lo;
+    if (len < 10 * max_px) continue;  // short corner rows: their ends dominate
+    ++checked;
+    EXPECT_GE(r.n, len / max_px - 1) << "row " << k << " of " << len << " px";
+    EXPECT_LE(r.n, len / max_px + 5) << "row " << k << " of " << len << " px";
+  }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(EmbroideryStitches, FillStitchesAreNotSplitInHalves) {
+  expect_no_split_stitches(0.0);
+  expect_no_split_stitches(CV_PI / 6);
+}
+
 }  // namespace
 }  // namespace atelier::embroidery

@@ -1,7 +1,9 @@
-// The stitch planner (algorithms/embroidery/stitch_planner.h): colour blocks, trims, tie-offs,
+// The stitch planner (algorithms/embroidery/stitch_planner.h): colour blocks, trims, ties, hidden
+// travel, no tiny stitches,
 // end code, stitch lengths, coverage of every region and the hoop check.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
@@ -9,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/embroidery/pipeline.h"
 #include "algorithms/embroidery/stitch_planner.h"
+#include "algorithms/embroidery/textures.h"
 #include "tests/unit/algorithms/embroidery/stitches_fixture.h"
 
 namespace atelier::embroidery {
@@ -83,29 +87,156 @@ TEST(EmbroideryStitches, PlanHasColourBlocksTrimsAndAnEnd) {
   EXPECT_TRUE(cv::norm(cv::Point2d(fx, fy) - cv::Point2d(110, 120)) < 82 || (fx > 298 && fy > 248));
 }
 
+// Every run of thread (from a jump to the next trim, colour change or the end) starts with a
+// tie-in and ends with a tie-off, Ink/Stitch's default lock: four stitches of at most
+// 0.75 mm (and more than min_stitch_mm) that come back to where they started (issue 21
+// point 8; it was one 0.5 mm back-stitch, and a one-stitch run could have none).
+void expect_every_run_tied(const StitchPlan& plan, double min_stitch_mm) {
+  const auto& pts = plan.points;
+  auto dist = [&](size_t i, size_t j) { return std::hypot(pts[i].x_mm - pts[j].x_mm, pts[i].y_mm - pts[j].y_mm); };
+  int runs = 0;
+  for (size_t j = 0; j < pts.size(); ++j) {
+    if (pts[j].kind != StitchKind::jump) continue;
+    size_t k = j + 1;
+    while (k < pts.size() && pts[k].kind == StitchKind::stitch) ++k;
+    if (k == j + 1) continue;  // a long jump split in several
+    ++runs;
+    ASSERT_GE(k - j - 1, 9u) << "a run of " << k - j - 1 << " stitches at " << j << " cannot hold two ties";
+    // Tie-in: jump to h, then four stitches ending at h.
+    EXPECT_LT(dist(j + 4, j), 1e-9) << "no tie-in after the jump at " << j;
+    for (size_t t = j + 1; t <= j + 4; ++t) {
+      EXPECT_LE(dist(t, t - 1), 0.75 + 1e-9) << "tie-in stitch at " << t;
+      EXPECT_GT(dist(t, t - 1), min_stitch_mm) << "tie-in stitch at " << t;
+    }
+    // Tie-off: e, then four stitches ending at e, then the cut.
+    EXPECT_LT(dist(k - 1, k - 5), 1e-9) << "no tie-off before " << k;
+    for (size_t t = k - 4; t < k; ++t) {
+      EXPECT_LE(dist(t, t - 1), 0.75 + 1e-9) << "tie-off stitch at " << t;
+      EXPECT_GT(dist(t, t - 1), min_stitch_mm) << "tie-off stitch at " << t;
+    }
+    EXPECT_TRUE(k < pts.size() && (pts[k].kind == StitchKind::trim || pts[k].kind == StitchKind::end))
+        << "run at " << j << " not ended by a trim or the end";
+  }
+  EXPECT_EQ(runs, stitch_stats(plan).trims + 1);
+}
+
 TEST(EmbroideryStitches, ThreadIsLockedAtEveryStartAndCut) {
   const Segmentation seg = drawn_design();
-  const StitchPlan plan = plan_stitches(seg, std::vector<double>(seg.regions.size(), 0.5), params8());
-  const auto& pts = plan.points;
-  auto same = [](const StitchPoint& a, const StitchPoint& b) { return std::hypot(a.x_mm - b.x_mm, a.y_mm - b.y_mm) < 1e-9; };
-  int ties = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    const StitchKind k = pts[i].kind;
-    if (k == StitchKind::trim || k == StitchKind::color_change || k == StitchKind::end) {
-      if (i >= 1 && pts[i - 1].kind != StitchKind::stitch) continue;  // a colour change right after its trim
-      ASSERT_GE(i, 3u);
-      // ... a, b, a, cut: back along the last stitch and return.
-      EXPECT_TRUE(same(pts[i - 1], pts[i - 3]) && pts[i - 2].kind == StitchKind::stitch) << "no tie-off at " << i;
-      EXPECT_LE(std::hypot(pts[i - 1].x_mm - pts[i - 2].x_mm, pts[i - 1].y_mm - pts[i - 2].y_mm), 0.5 + 1e-9);
-      ++ties;
+  const StitchParams p = params8();
+  const StitchPlan plan = plan_stitches(seg, std::vector<double>(seg.regions.size(), 0.5), p);
+  expect_every_run_tied(plan, p.min_stitch_mm);
+}
+
+// Issue 21 point 6: many small regions of one colour, under a covering layer of a colour sewn
+// after them. Travel between them runs under the later colour instead of being trimmed; over
+// bare fabric it never runs further than trim_jump_mm without a trim.
+struct Patches {
+  Segmentation seg;
+  cv::Mat1i colour_px;  // palette index per pixel, -1 = fabric
+};
+
+Patches patches_under_cover(bool with_cover) {
+  Patches d;
+  Segmentation& seg = d.seg;
+  seg.size = {480, 480};  // 60 x 60 mm
+  seg.palette.bgr = {{40, 40, 200}, {200, 200, 40}};
+  cv::Mat1b cover(seg.size, uchar(0));
+  cv::rectangle(cover, cv::Rect(20, 20, 440, 440), 255, cv::FILLED);
+  d.colour_px = cv::Mat1i(seg.size, -1);
+  for (int gy = 0; gy < 6; ++gy)
+    for (int gx = 0; gx < 6; ++gx) {  // 36 squares of 2 x 2 mm, 10 mm apart
+      cv::Mat1b sq(seg.size, uchar(0));
+      const cv::Rect r(50 + gx * 72, 50 + gy * 72, 16, 16);
+      cv::rectangle(sq, r, 255, cv::FILLED);
+      cover(r).setTo(0);
+      seg.regions.push_back(region_from(sq, 0, Style::long_short));
+      d.colour_px(r).setTo(0);
     }
-    if (k == StitchKind::jump && i + 3 < pts.size() && pts[i + 1].kind == StitchKind::stitch) {
-      // jump to a, a, b, a: ahead along the next stitch and return.
-      EXPECT_TRUE(same(pts[i + 1], pts[i]) && same(pts[i + 3], pts[i + 1])) << "no tie-in at " << i;
-      ++ties;
-    }
+  if (with_cover) {
+    seg.regions.push_back(region_from(cover, 1, Style::long_short));
+    d.colour_px.setTo(1, cover);
   }
-  EXPECT_GE(ties, 2 * (stitch_stats(plan).trims + 1));
+  for (size_t i = 0; i < seg.regions.size(); ++i) seg.regions[i].id = static_cast<int>(i);
+  return d;
+}
+
+// The longest stretch (mm) of any one stitch over fabric pixels.
+double longest_over_fabric(const StitchPlan& plan, const cv::Mat1i& colour_px) {
+  const cv::Point2d centre((colour_px.cols - 1) / 2.0, (colour_px.rows - 1) / 2.0);
+  double worst = 0;
+  const StitchPoint* prev = nullptr;
+  for (const StitchPoint& q : plan.points) {
+    if (!is_positioned(q.kind)) continue;
+    if (prev && q.kind == StitchKind::stitch) {
+      const cv::Point2d a = cv::Point2d(prev->x_mm, prev->y_mm) * kPpm + centre, b = cv::Point2d(q.x_mm, q.y_mm) * kPpm + centre;
+      const int steps = std::max(1, static_cast<int>(std::ceil(cv::norm(b - a) * 4)));  // 0.25 px
+      int bare = 0;
+      for (int t = 0; t < steps; ++t) {
+        const cv::Point2d m = a + (b - a) * ((t + 0.5) / steps);
+        const int x = cvRound(m.x), y = cvRound(m.y);
+        if (x < 0 || y < 0 || x >= colour_px.cols || y >= colour_px.rows || colour_px(y, x) < 0) ++bare;
+      }
+      worst = std::max(worst, cv::norm(b - a) / kPpm * bare / steps);
+    }
+    prev = &q;
+  }
+  return worst;
+}
+
+TEST(EmbroideryStitches, TravelRunsUnderThreadStillToComeInsteadOfTrims) {
+  const Patches d = patches_under_cover(true);
+  const StitchParams p = params8();
+  const StitchPlan plan = plan_stitches(d.seg, std::vector<double>(d.seg.regions.size(), 0.3), p);
+  const StitchStats st = stitch_stats(plan);
+  EXPECT_EQ(st.color_changes, 1);
+  // 36 squares 7 mm apart: each was a trim; under the cover none is needed.
+  EXPECT_LE(st.trims, 1 + 3) << "trims for 36 small regions";
+  std::printf("36 squares under a later colour: %d trims (1 for the colour change)\n", st.trims);
+  expect_every_run_tied(plan, p.min_stitch_mm);
+  expect_long_jumps_trimmed(plan.points, p.trim_jump_mm);
+  EXPECT_LE(longest_over_fabric(plan, d.colour_px), p.trim_jump_mm + 1e-6);
+}
+
+TEST(EmbroideryStitches, TravelOverBareFabricIsTrimmed) {
+  const Patches d = patches_under_cover(false);  // the same squares on bare fabric
+  const StitchParams p = params8();
+  const StitchPlan plan = plan_stitches(d.seg, std::vector<double>(d.seg.regions.size(), 0.3), p);
+  EXPECT_EQ(stitch_stats(plan).trims, 35);  // nothing hides the 7 mm between them
+  expect_every_run_tied(plan, p.min_stitch_mm);
+  EXPECT_LE(longest_over_fabric(plan, d.colour_px), p.trim_jump_mm + 1e-6);
+}
+
+// Issue 21 point 7: a real design had hundreds of stitches of 0.1 mm or less (fill rows one
+// pixel apart at their ends, satin tips, the stitch in place after every jump); none is
+// left, tie stitches included.
+TEST(EmbroideryStitches, NoStitchOfTheMinimumLengthOrLessOnARealImage) {
+  const cv::Mat img = cv::imread(std::string(ATELIER_TEST_DATA) + "/fruits.jpg", cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty());
+  DesignParams dp;  // 90 mm wide, as a job makes it
+  const Design d = make_design(img, procedural_textures(), dp);
+  int tiny = 0, n = 0;
+  for (double l : stitch_lengths(d.plan.points)) {
+    ++n;
+    if (l <= dp.stitches.min_stitch_mm + 1e-9) ++tiny;
+  }
+  // And as the files write them: positions rounded to 0.1 mm.
+  int tiny_in_file = 0;
+  const StitchPoint* prev = nullptr;
+  for (const StitchPoint& q : d.plan.points) {
+    if (!is_positioned(q.kind)) continue;
+    if (prev && q.kind == StitchKind::stitch) {
+      const FileUnits a = to_file_units(*prev), b = to_file_units(q);
+      if (std::hypot(static_cast<double>(b.x - a.x), static_cast<double>(b.y - a.y)) <= 1.0) ++tiny_in_file;
+    }
+    prev = &q;
+  }
+  EXPECT_GT(n, 10000);
+  EXPECT_EQ(tiny, 0) << "of " << n << " stitches";
+  EXPECT_EQ(tiny_in_file, 0) << "of " << n << " stitches, in 0.1 mm file units";
+  expect_every_run_tied(d.plan, dp.stitches.min_stitch_mm);
+  const StitchStats st = stitch_stats(d.plan);
+  std::printf("fruits.jpg at %.0f mm: %d stitches, %d trims, %d colour changes\n", d.width_mm, st.stitches, st.trims,
+              st.color_changes);
 }
 
 TEST(EmbroideryStitches, PlanCoversEveryRegion) {

@@ -144,6 +144,8 @@ TEST_F(ConvertEmbroideryTest, BadParametersNameTheKey) {
   // No stitch may be longer than one DST record.
   EXPECT_THAT(error_of(data("pic1.png"), "satin_max_mm = 12\nsatin_pull_comp_mm = 0.5\n"), HasSubstr("satin_pull_comp_mm"));
   EXPECT_THAT(error_of(data("pic1.png"), "trim_jump_mm = 20\n"), HasSubstr("trim_jump_mm"));
+  // The minimum stitch stays below the shortest stitch any style may ask for (0.5 mm).
+  EXPECT_THAT(error_of(data("pic1.png"), "min_stitch_mm = 0.5\n"), HasSubstr("min_stitch_mm"));
   EXPECT_THAT(error_of(data("pic1.png"), "texture_dpi = 1\n"), HasSubstr("texture_dpi"));
 }
 
