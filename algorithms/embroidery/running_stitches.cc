@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "algorithms/embroidery/coverage.h"
 #include "algorithms/embroidery/fill_stitches.h"
 #include "algorithms/embroidery/satin_stitches.h"
 #include "algorithms/embroidery/skeleton.h"
@@ -189,35 +190,51 @@ std::vector<StitchPoint> edge_region(const cv::Mat1b& mask, cv::Point2f offset_p
   const double ppm = params.px_per_mm;
   const double run_px = params.running_stitch_mm * ppm;
   InsideTravel travel(mask, std::max(2.0, 0.5 * ppm));
-  StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
   std::vector<SkeletonBranch> branches = skeleton_branches(mask, std::max(2.0, 0.5 * ppm));
   if (branches.empty()) {
+    StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
     fill_into(mask, fallback_angle, params, sink);
     return sink.to_mm(offset_px, ppm);
   }
   cv::Mat1f dist;
   cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
-  std::vector<bool> done(branches.size(), false);
-  for (size_t k = 0; k < branches.size(); ++k) {
-    cv::Point2f needle;
-    if (!sink.empty()) needle = sink.last();
-    const SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
-    // Stroke width: twice the mean distance to the background along the centre line (the
-    // distance at a centre pixel is half the width plus about half a pixel).
-    double sum = 0;
-    for (const cv::Point2f& p : b.pixels) sum += dist(cvRound(p.y), cvRound(p.x));
-    const double width_px = std::max(1.0, 2.0 * sum / b.pixels.size() - 1.0);
-    if (width_px >= params.edge_satin_min_mm * ppm && b.pixels.size() >= 3) {
-      const double spacing_px = params.satin_spacing_mm * ppm;
-      const SampledCurve c = fit_bspline(b, spacing_px / 2, width_px / 2);
-      const ColumnParams cp{spacing_px, params.satin_pull_comp_mm * ppm, params.satin_max_mm * ppm, false, run_px};
-      if (satin_column(mask, c, cp, sink)) continue;
+  // Sews every branch: a narrow satin where the stroke is at least satin_min_px wide, else a
+  // running stitch. Bounded: one column or run per branch.
+  auto sew = [&](double satin_min_px) {
+    StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
+    std::vector<bool> done(branches.size(), false);
+    for (size_t k = 0; k < branches.size(); ++k) {
+      cv::Point2f needle;
+      if (!sink.empty()) needle = sink.last();
+      const SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
+      // Stroke width: twice the mean distance to the background along the centre line (the
+      // distance at a centre pixel is half the width plus about half a pixel).
+      double sum = 0;
+      for (const cv::Point2f& p : b.pixels) sum += dist(cvRound(p.y), cvRound(p.x));
+      const double width_px = std::max(1.0, 2.0 * sum / b.pixels.size() - 1.0);
+      if (width_px >= satin_min_px && b.pixels.size() >= 3) {
+        const double spacing_px = params.satin_spacing_mm * ppm;
+        const SampledCurve c = fit_bspline(b, spacing_px / 8, width_px / 2);
+        const ColumnParams cp{spacing_px, params.satin_pull_comp_mm * ppm, params.satin_max_mm * ppm, false, run_px};
+        if (satin_column(mask, c, cp, sink)) continue;
+      }
+      const std::vector<cv::Point2f> pts = resample_on_pixels(b.pixels, run_px);
+      sink.travel_to(pts.front());
+      sink.run_along(pts);
     }
-    const std::vector<cv::Point2f> pts = resample_on_pixels(b.pixels, run_px);
-    sink.travel_to(pts.front());
-    sink.run_along(pts);
-  }
-  return sink.to_mm(offset_px, ppm);
+    return sink;
+  };
+  // Issue 21: a running stitch (0.4 mm of thread) cannot cover a wider stroke. As configured
+  // first; below kCoverTarget a narrow satin wherever the stroke is wider than the thread,
+  // bare parts filled; still below, a tatami fill; the best of these.
+  StitchSink sink = sew(params.edge_satin_min_mm * ppm);
+  if (sink_coverage(mask, sink, ppm) >= kCoverTarget) return sink.to_mm(offset_px, ppm);
+  StitchSink narrow = sew(2 * kThreadRadiusMm * ppm);
+  const double narrow_cover = cover_bare(mask, fallback_angle, params, narrow);
+  if (narrow_cover >= kCoverTarget) return narrow.to_mm(offset_px, ppm);
+  StitchSink fill(&travel, run_px, params.trim_jump_mm * ppm);
+  fill_into(mask, fallback_angle, params, fill);
+  return (narrow_cover > sink_coverage(mask, fill, ppm) ? narrow : fill).to_mm(offset_px, ppm);
 }
 
 }  // namespace atelier::embroidery
