@@ -227,14 +227,15 @@ std::vector<StitchPoint> edge_region(const cv::Mat1b& mask, cv::Point2f offset_p
   // Issue 21: a running stitch (0.4 mm of thread) cannot cover a wider stroke. As configured
   // first; below kCoverTarget a narrow satin wherever the stroke is wider than the thread,
   // bare parts filled; still below, a tatami fill; the best of these.
+  const double limit_px = params.satin_pull_comp_mm * ppm + 0.75;  // see on_region_mm
   StitchSink sink = sew(params.edge_satin_min_mm * ppm);
-  if (sink_coverage(mask, sink, ppm) >= kCoverTarget) return sink.to_mm(offset_px, ppm);
+  if (sink_coverage(mask, sink, ppm) >= kCoverTarget) return on_region_mm(mask, sink, offset_px, ppm, limit_px);
   StitchSink narrow = sew(2 * kThreadRadiusMm * ppm);
   const double narrow_cover = cover_bare(mask, fallback_angle, params, narrow);
-  if (narrow_cover >= kCoverTarget) return narrow.to_mm(offset_px, ppm);
+  if (narrow_cover >= kCoverTarget) return on_region_mm(mask, narrow, offset_px, ppm, limit_px);
   StitchSink fill(&travel, run_px, params.trim_jump_mm * ppm);
   fill_into(mask, fallback_angle, params, fill);
-  return (narrow_cover > sink_coverage(mask, fill, ppm) ? narrow : fill).to_mm(offset_px, ppm);
+  return on_region_mm(mask, narrow_cover > sink_coverage(mask, fill, ppm) ? narrow : fill, offset_px, ppm, limit_px);
 }
 
 }  // namespace atelier::embroidery

@@ -111,10 +111,11 @@ bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const Column
   // Needle-to-needle checks against the mask grown by the pull compensation (plus a pixel of
   // rounding): a stitch that crosses bare fabric there (a tight bend, a fan of cuts in a
   // concave part) is a spike; the needle gets to its point inside the region instead.
-  const int pad = cvCeil(p.pull_px) + 2;  // pull-compensated points may lie past the box
+  const int grow = cvCeil(p.pull_px + 0.75);  // a needle point's pull and its pixel's half diagonal
+  const int pad = grow + 1;                     // pull-compensated points may lie past the box
   cv::Mat1b grown;
   cv::copyMakeBorder(mask, grown, pad, pad, pad, pad, cv::BORDER_CONSTANT, 0);
-  cv::dilate(grown, grown, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * pad - 1, 2 * pad - 1)));
+  cv::dilate(grown, grown, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * grow + 1, 2 * grow + 1)));
   const cv::Point2f shift(static_cast<float>(pad), static_cast<float>(pad));
   const int n = static_cast<int>(cuts.size());
   cv::Point2f prev_on_cut;
@@ -162,6 +163,46 @@ double sink_coverage(const cv::Mat1b& mask, const StitchSink& sink, double px_pe
   return region_coverage(mask, sink.to_mm({0, 0}, 1.0), {0, 0}, 1.0, kThreadRadiusMm * px_per_mm);
 }
 
+std::vector<StitchPoint> on_region_mm(const cv::Mat1b& mask, const StitchSink& sink, cv::Point2f offset_px,
+                                      double px_per_mm, double limit_px) {
+  std::vector<StitchPoint> pts = sink.to_mm({0, 0}, 1.0);  // mask pixels
+  const int pad = cvCeil(limit_px) + 2;
+  bool far = false;
+  cv::Mat1b padded;
+  cv::copyMakeBorder(mask, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, 0);
+  cv::Mat1f dist;
+  cv::Mat1i label;
+  if (cv::countNonZero(mask) > 0) {
+    cv::distanceTransform(~padded, dist, label, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+    for (const StitchPoint& p : pts) {
+      const int x = cvRound(p.x_mm) + pad, y = cvRound(p.y_mm) + pad;
+      far |= p.kind == StitchKind::stitch &&
+             (x < 0 || y < 0 || x >= dist.cols || y >= dist.rows || dist(y, x) > limit_px);
+    }
+  }
+  if (far) {
+    // DIST_LABEL_PIXEL numbers the zero pixels (here: the mask's) from 1 in raster order.
+    std::vector<cv::Point> at(1);
+    for (int y = 0; y < padded.rows; ++y)
+      for (int x = 0; x < padded.cols; ++x)
+        if (padded(y, x)) at.emplace_back(x, y);
+    for (StitchPoint& p : pts) {
+      if (p.kind != StitchKind::stitch) continue;
+      const int x = std::clamp(cvRound(p.x_mm) + pad, 0, dist.cols - 1), y = std::clamp(cvRound(p.y_mm) + pad, 0, dist.rows - 1);
+      const bool outside_box = cvRound(p.x_mm) + pad != x || cvRound(p.y_mm) + pad != y;
+      if (!outside_box && dist(y, x) <= limit_px) continue;
+      const int l = label(y, x);
+      if (l <= 0 || l >= static_cast<int>(at.size())) continue;
+      p.x_mm = at[l].x - pad, p.y_mm = at[l].y - pad;
+    }
+  }
+  for (StitchPoint& p : pts) {
+    p.x_mm = (p.x_mm + offset_px.x) / px_per_mm;
+    p.y_mm = (p.y_mm + offset_px.y) / px_per_mm;
+  }
+  return pts;
+}
+
 double cover_bare(const cv::Mat1b& mask, double angle, const StitchParams& params, StitchSink& sink) {
   const double ppm = params.px_per_mm, radius_px = kThreadRadiusMm * ppm;
   const int area = cv::countNonZero(mask);
@@ -173,7 +214,9 @@ double cover_bare(const cv::Mat1b& mask, double angle, const StitchParams& param
     return cv::Mat1b(mask & ~sewn);
   };
   cv::Mat1b bare = bare_of();
-  if (1.0 - static_cast<double>(cv::countNonZero(bare)) / area >= kCoverTarget) {
+  // Topped up below 99 %: a margin over the target for what moving stray travel points
+  // (on_region_mm) may take away.
+  if (1.0 - static_cast<double>(cv::countNonZero(bare)) / area >= 0.99) {
     return 1.0 - static_cast<double>(cv::countNonZero(bare)) / area;
   }
   cv::Mat1i labels, stats;
@@ -219,11 +262,13 @@ std::vector<StitchPoint> satin_region(const cv::Mat1b& mask, cv::Point2f offset_
     sewn |= satin_column(mask, fit_bspline(b, spacing_px / 8, extend), cp, sink);
   }
   const double satin_cover = sewn ? cover_bare(mask, fallback_angle, params, sink) : 0.0;
-  if (satin_cover >= kCoverTarget) return sink.to_mm(offset_px, ppm);
+  const double limit_px = cp.pull_px + 0.75;
+  if (satin_cover >= kCoverTarget) return on_region_mm(mask, sink, offset_px, ppm, limit_px);
   // Satin cannot cover this region: tatami over all of it, unless that covers even less.
   StitchSink fill(&travel, run_px, params.trim_jump_mm * ppm);
   fill_into(mask, fallback_angle, params, fill);
-  return (sewn && satin_cover > sink_coverage(mask, fill, ppm) ? sink : fill).to_mm(offset_px, ppm);
+  return on_region_mm(mask, sewn && satin_cover > sink_coverage(mask, fill, ppm) ? sink : fill, offset_px, ppm,
+                      limit_px);
 }
 
 }  // namespace atelier::embroidery

@@ -45,6 +45,12 @@ double sink_coverage(const cv::Mat1b& mask, const StitchSink& sink, double px_pe
 // Bounded: one fill per bare part, one measurement before and after.
 double cover_bare(const cv::Mat1b& mask, double angle, const StitchParams& params, StitchSink& sink);
 
+// The sink's stitches in mm (offset_px as in fill_region), each needle point farther than
+// limit_px from every mask pixel centre moved onto the nearest one: travel that found no path
+// inside the region (a neck narrower than its cells) runs straight and may leave it.
+std::vector<StitchPoint> on_region_mm(const cv::Mat1b& mask, const StitchSink& sink, cv::Point2f offset_px,
+                                      double px_per_mm, double limit_px);
+
 // A satin region: its skeleton branches (shorter than 1.5 mm dropped) as columns, nearest
 // first with travel inside the region; the parts the columns leave bare (blobby or concave
 // parts perpendicular cuts miss) are filled (cover_bare), and a region still below
