@@ -200,21 +200,28 @@ std::vector<StitchPoint> edge_region(const cv::Mat1b& mask, cv::Point2f offset_p
   cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
   // Sews every branch: a narrow satin where the stroke is at least satin_min_px wide, else a
   // running stitch. Bounded: one column or run per branch.
+  // Stroke width per branch: twice the mean distance to the background along the centre line
+  // (the distance at a centre pixel is half the width plus about half a pixel).
+  std::vector<double> width_px(branches.size());
+  for (size_t k = 0; k < branches.size(); ++k) {
+    double sum = 0;
+    for (const cv::Point2f& p : branches[k].pixels) sum += dist(cvRound(p.y), cvRound(p.x));
+    width_px[k] = std::max(1.0, 2.0 * sum / branches[k].pixels.size() - 1.0);
+  }
   auto sew = [&](double satin_min_px) {
     StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
     std::vector<bool> done(branches.size(), false);
     for (size_t k = 0; k < branches.size(); ++k) {
       cv::Point2f needle;
       if (!sink.empty()) needle = sink.last();
+      const std::vector<bool> before = done;
       const SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
-      // Stroke width: twice the mean distance to the background along the centre line (the
-      // distance at a centre pixel is half the width plus about half a pixel).
-      double sum = 0;
-      for (const cv::Point2f& p : b.pixels) sum += dist(cvRound(p.y), cvRound(p.x));
-      const double width_px = std::max(1.0, 2.0 * sum / b.pixels.size() - 1.0);
-      if (width_px >= satin_min_px && b.pixels.size() >= 3) {
+      size_t id = 0;
+      while (id + 1 < done.size() && !(done[id] && !before[id])) ++id;  // the one just taken
+      const double w = width_px[id];
+      if (w >= satin_min_px && b.pixels.size() >= 3) {
         const double spacing_px = params.satin_spacing_mm * ppm;
-        const SampledCurve c = fit_bspline(b, spacing_px / 8, width_px / 2);
+        const SampledCurve c = fit_bspline(b, spacing_px / 8, w / 2);
         const ColumnParams cp{spacing_px, params.satin_pull_comp_mm * ppm, params.satin_max_mm * ppm, false, run_px};
         if (satin_column(mask, c, cp, sink)) continue;
       }
@@ -228,9 +235,16 @@ std::vector<StitchPoint> edge_region(const cv::Mat1b& mask, cv::Point2f offset_p
   // first; below kCoverTarget a narrow satin wherever the stroke is wider than the thread,
   // bare parts filled; still below, a tatami fill; the best of these.
   const double limit_px = params.satin_pull_comp_mm * ppm + 0.75;  // see on_region_mm
-  StitchSink sink = sew(params.edge_satin_min_mm * ppm);
-  if (sink_coverage(mask, sink, ppm) >= kCoverTarget) return on_region_mm(mask, sink, offset_px, ppm, limit_px);
-  StitchSink narrow = sew(2 * kThreadRadiusMm * ppm);
+  // A running stitch on a stroke over a pixel wider than the thread cannot reach the target:
+  // straight to the narrow satin then.
+  const double thread_px = 2 * kThreadRadiusMm * ppm, satin_min_px = params.edge_satin_min_mm * ppm;
+  const bool may_cover = std::all_of(width_px.begin(), width_px.end(),
+                                     [&](double w) { return w >= satin_min_px || w <= thread_px + 1.0; });
+  if (may_cover) {
+    StitchSink sink = sew(satin_min_px);
+    if (sink_coverage(mask, sink, ppm) >= kCoverTarget) return on_region_mm(mask, sink, offset_px, ppm, limit_px);
+  }
+  StitchSink narrow = sew(thread_px);
   const double narrow_cover = cover_bare(mask, fallback_angle, params, narrow);
   if (narrow_cover >= kCoverTarget) return on_region_mm(mask, narrow, offset_px, ppm, limit_px);
   StitchSink fill(&travel, run_px, params.trim_jump_mm * ppm);

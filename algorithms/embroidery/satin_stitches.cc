@@ -52,7 +52,12 @@ bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const Column
     sum[i + 1] = sum[i] + cv::Point2d(curve.tangents[i]);
     if (i > 0) arc[i] = arc[i - 1] + cv::norm(curve.points[i] - curve.points[i - 1]);
   }
-  std::vector<Cut> fine;
+  // Candidate cuts: the samples inside the mask, with the averaged normal; the edges (the
+  // costly part, a walk along the normal) are found only for the cuts taken.
+  struct Sample {
+    cv::Point2f centre, normal;
+  };
+  std::vector<Sample> fine;
   fine.reserve(m);
   size_t lo = 0, hi = 0;
   for (size_t i = 0; i < m; ++i) {  // bounded: lo and hi only move forward
@@ -63,8 +68,7 @@ bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const Column
     cv::Point2d t = sum[hi + 1] - sum[lo];
     const double tl = cv::norm(t);
     t = tl > 1e-9 ? t * (1.0 / tl) : cv::Point2d(curve.tangents[i]);
-    const cv::Point2f n(static_cast<float>(-t.y), static_cast<float>(t.x));
-    fine.push_back({q, n, reach(mask, q, -n, limit), reach(mask, q, n, limit)});
+    fine.push_back({q, cv::Point2f(static_cast<float>(-t.y), static_cast<float>(t.x))});
   }
   if (fine.empty()) return false;
   // The needle's cuts: consecutive ones at most half the spacing apart on the centre line and
@@ -72,20 +76,28 @@ bool satin_column(const cv::Mat1b& mask, const SampledCurve& curve, const Column
   // centre alone the thread leaves gaps there). A little under half: the metric's thread is
   // exactly as wide as the spacing.
   const double advance = 0.475 * p.spacing_px;
-  // How far the thread moves along the column from cut a to b: the centre's advance plus
-  // what the turn of the cut adds at its far ends (the edges themselves are pixel-jagged).
-  auto moved = [](const Cut& a, const Cut& b) {
-    const double turn = std::acos(std::clamp(static_cast<double>(a.normal.dot(b.normal)), -1.0, 1.0));
-    return cv::norm(a.centre - b.centre) + turn * std::max({a.minus, a.plus, b.minus, b.plus});
+  auto cut_at = [&](const Sample& f) {
+    return Cut{f.centre, f.normal, reach(mask, f.centre, -f.normal, limit), reach(mask, f.centre, f.normal, limit)};
   };
-  std::vector<Cut> cuts{fine.front()};
-  for (size_t i = 1; i < fine.size(); ++i) {  // bounded: one pass over the fine cuts
+  // How far the thread moves along the column from cut a to sample b: the centre's advance
+  // plus what the turn of the cut adds at a's far ends (edges themselves are pixel-jagged).
+  auto moved = [](const Cut& a, const Sample& b) {
+    const double turn = std::acos(std::clamp(static_cast<double>(a.normal.dot(b.normal)), -1.0, 1.0));
+    return cv::norm(a.centre - b.centre) + turn * std::max(a.minus, a.plus);
+  };
+  std::vector<Cut> cuts{cut_at(fine.front())};
+  size_t last = 0;
+  for (size_t i = 1; i < fine.size(); ++i) {  // bounded: one pass over the samples
     if (moved(cuts.back(), fine[i]) <= advance) continue;
-    const bool prev_new = moved(cuts.back(), fine[i - 1]) > 1e-6 && i - 1 > 0;
-    cuts.push_back(prev_new ? fine[i - 1] : fine[i]);
-    if (prev_new && moved(cuts.back(), fine[i]) > advance) cuts.push_back(fine[i]);
+    if (i - 1 > last) {
+      cuts.push_back(cut_at(fine[i - 1]));
+      last = i - 1;
+      if (moved(cuts.back(), fine[i]) <= advance) continue;
+    }
+    cuts.push_back(cut_at(fine[i]));
+    last = i;
   }
-  if (fine.size() > 1 && moved(cuts.back(), fine.back()) > 1e-6) cuts.push_back(fine.back());
+  if (last + 1 < fine.size()) cuts.push_back(cut_at(fine.back()));
   // Sub-columns: each one's stitch (its width, twice the pull compensation and the half
   // spacing it advances) within max_span, so no stitch of a straight column is longer.
   int k = 1;
@@ -173,7 +185,7 @@ std::vector<StitchPoint> on_region_mm(const cv::Mat1b& mask, const StitchSink& s
   cv::Mat1f dist;
   cv::Mat1i label;
   if (cv::countNonZero(mask) > 0) {
-    cv::distanceTransform(~padded, dist, label, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+    cv::distanceTransform(~padded, dist, cv::DIST_L2, cv::DIST_MASK_5);
     for (const StitchPoint& p : pts) {
       const int x = cvRound(p.x_mm) + pad, y = cvRound(p.y_mm) + pad;
       far |= p.kind == StitchKind::stitch &&
@@ -181,6 +193,7 @@ std::vector<StitchPoint> on_region_mm(const cv::Mat1b& mask, const StitchSink& s
     }
   }
   if (far) {
+    cv::distanceTransform(~padded, dist, label, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
     // DIST_LABEL_PIXEL numbers the zero pixels (here: the mask's) from 1 in raster order.
     std::vector<cv::Point> at(1);
     for (int y = 0; y < padded.rows; ++y)
@@ -224,8 +237,10 @@ double cover_bare(const cv::Mat1b& mask, double angle, const StitchParams& param
   const int n = cv::connectedComponentsWithStats(bare, labels, stats, centroids, 8, CV_32S);
   const int min_px = std::max(4, static_cast<int>(std::lround(0.25 * ppm * ppm)));
   const cv::Mat grow = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
+  bool filled = false;
   for (int c = 1; c < n; ++c) {  // bounded: one fill per bare part
     if (stats(c, cv::CC_STAT_AREA) < min_px) continue;
+    filled = true;
     const cv::Rect box = cv::Rect(stats(c, cv::CC_STAT_LEFT) - 1, stats(c, cv::CC_STAT_TOP) - 1,
                                   stats(c, cv::CC_STAT_WIDTH) + 2, stats(c, cv::CC_STAT_HEIGHT) + 2) &
                          cv::Rect(0, 0, mask.cols, mask.rows);
@@ -235,7 +250,7 @@ double cover_bare(const cv::Mat1b& mask, double angle, const StitchParams& param
     part(box) &= mask(box);
     fill_into(part, angle, params, sink);
   }
-  bare = bare_of();
+  if (filled) bare = bare_of();
   return 1.0 - static_cast<double>(cv::countNonZero(bare)) / area;
 }
 
