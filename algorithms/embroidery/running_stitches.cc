@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "algorithms/embroidery/coverage.h"
 #include "algorithms/embroidery/fill_stitches.h"
 #include "algorithms/embroidery/satin_stitches.h"
 #include "algorithms/embroidery/skeleton.h"
@@ -197,35 +198,66 @@ std::vector<StitchPoint> edge_region(const cv::Mat1b& mask, cv::Point2f offset_p
   const double ppm = params.px_per_mm;
   const double run_px = params.running_stitch_mm * ppm;
   InsideTravel travel(mask, std::max(2.0, 0.5 * ppm));
-  StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
   std::vector<SkeletonBranch> branches = skeleton_branches(mask, std::max(2.0, 0.5 * ppm));
   if (branches.empty()) {
+    StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
     fill_into(mask, fallback_angle, params, sink);
     return sink.to_mm(offset_px, ppm);
   }
   cv::Mat1f dist;
   cv::distanceTransform(mask, dist, cv::DIST_L2, 3);
-  std::vector<bool> done(branches.size(), false);
+  // Sews every branch: a narrow satin where the stroke is at least satin_min_px wide, else a
+  // running stitch. Bounded: one column or run per branch.
+  // Stroke width per branch: twice the mean distance to the background along the centre line
+  // (the distance at a centre pixel is half the width plus about half a pixel).
+  std::vector<double> width_px(branches.size());
   for (size_t k = 0; k < branches.size(); ++k) {
-    cv::Point2f needle;
-    if (!sink.empty()) needle = sink.last();
-    const SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
-    // Stroke width: twice the mean distance to the background along the centre line (the
-    // distance at a centre pixel is half the width plus about half a pixel).
     double sum = 0;
-    for (const cv::Point2f& p : b.pixels) sum += dist(cvRound(p.y), cvRound(p.x));
-    const double width_px = std::max(1.0, 2.0 * sum / b.pixels.size() - 1.0);
-    if (width_px >= params.edge_satin_min_mm * ppm && b.pixels.size() >= 3) {
-      const double spacing_px = params.satin_spacing_mm * ppm;
-      const SampledCurve c = fit_bspline(b, spacing_px / 2, width_px / 2);
-      const ColumnParams cp{spacing_px, params.satin_pull_comp_mm * ppm, params.satin_max_mm * ppm, false, run_px};
-      if (satin_column(mask, c, cp, sink)) continue;
-    }
-    const std::vector<cv::Point2f> pts = resample_on_pixels(b.pixels, run_px);
-    sink.travel_to(pts.front());
-    sink.run_along(pts);
+    for (const cv::Point2f& p : branches[k].pixels) sum += dist(cvRound(p.y), cvRound(p.x));
+    width_px[k] = std::max(1.0, 2.0 * sum / branches[k].pixels.size() - 1.0);
   }
-  return sink.to_mm(offset_px, ppm);
+  auto sew = [&](double satin_min_px) {
+    StitchSink sink(&travel, run_px, params.trim_jump_mm * ppm);
+    std::vector<bool> done(branches.size(), false);
+    for (size_t k = 0; k < branches.size(); ++k) {
+      cv::Point2f needle;
+      if (!sink.empty()) needle = sink.last();
+      const std::vector<bool> before = done;
+      const SkeletonBranch b = next_branch(branches, done, sink.empty() ? nullptr : &needle);
+      size_t id = 0;
+      while (id + 1 < done.size() && !(done[id] && !before[id])) ++id;  // the one just taken
+      const double w = width_px[id];
+      if (w >= satin_min_px && b.pixels.size() >= 3) {
+        const double spacing_px = params.satin_spacing_mm * ppm;
+        const SampledCurve c = fit_bspline(b, spacing_px / 8, w / 2);
+        const ColumnParams cp{spacing_px, params.satin_pull_comp_mm * ppm, params.satin_max_mm * ppm, false, run_px};
+        if (satin_column(mask, c, cp, sink)) continue;
+      }
+      const std::vector<cv::Point2f> pts = resample_on_pixels(b.pixels, run_px);
+      sink.travel_to(pts.front());
+      sink.run_along(pts);
+    }
+    return sink;
+  };
+  // Issue 21: a running stitch (0.4 mm of thread) cannot cover a wider stroke. As configured
+  // first; below kCoverTarget a narrow satin wherever the stroke is wider than the thread,
+  // bare parts filled; still below, a tatami fill; the best of these.
+  const double limit_px = params.satin_pull_comp_mm * ppm + 0.75;  // see on_region_mm
+  // A running stitch on a stroke over a pixel wider than the thread cannot reach the target:
+  // straight to the narrow satin then.
+  const double thread_px = 2 * kThreadRadiusMm * ppm, satin_min_px = params.edge_satin_min_mm * ppm;
+  const bool may_cover = std::all_of(width_px.begin(), width_px.end(),
+                                     [&](double w) { return w >= satin_min_px || w <= thread_px + 1.0; });
+  if (may_cover) {
+    StitchSink sink = sew(satin_min_px);
+    if (sink_coverage(mask, sink, ppm) >= kCoverTarget) return on_region_mm(mask, sink, offset_px, ppm, limit_px);
+  }
+  StitchSink narrow = sew(thread_px);
+  const double narrow_cover = cover_bare(mask, fallback_angle, params, narrow);
+  if (narrow_cover >= kCoverTarget) return on_region_mm(mask, narrow, offset_px, ppm, limit_px);
+  StitchSink fill(&travel, run_px, params.trim_jump_mm * ppm);
+  fill_into(mask, fallback_angle, params, fill);
+  return on_region_mm(mask, narrow_cover > sink_coverage(mask, fill, ppm) ? narrow : fill, offset_px, ppm, limit_px);
 }
 
 }  // namespace atelier::embroidery

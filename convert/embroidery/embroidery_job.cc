@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "algorithms/embroidery/coverage.h"
 #include "algorithms/embroidery/pipeline.h"
 #include "convert/embroidery/embroidery_params.h"
 #include "convert/common/display_text.h"
@@ -163,6 +164,15 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   for (int s = 0; s < emb::kStyleCount; ++s)
     textures_used[emb::style_name(static_cast<emb::Style>(s))] = textures.sources[s];
   const emb::StitchParams& sp = params.design.stitches;
+  // Thread coverage per style (issue 21): each region's own stitches, regions over 4 mm².
+  emb::StitchParams cov_params = sp;
+  cov_params.px_per_mm = design.px_per_mm;
+  const auto by_style = emb::coverage_by_style(emb::design_coverage(seg, design.directions, cov_params));
+  nlohmann::json coverage = nlohmann::json::object();
+  for (int s = 0; s < emb::kStyleCount; ++s)
+    coverage[emb::style_name(static_cast<emb::Style>(s))] = {
+        {"regions", by_style[s].regions}, {"min", by_style[s].min}, {"mean", by_style[s].mean},
+        {"regions_below_98", by_style[s].below}};
   nlohmann::json report = {
       {"kind", "embroidery"},
       {"input", name},
@@ -175,6 +185,7 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
       {"components", seg.components},
       {"components_forced_long_short", seg.components_forced_long_short},
       {"stitches", st.stitches},
+      {"coverage", coverage},
       {"jumps", st.jumps},
       {"trims", st.trims},
       {"color_changes", st.color_changes},
