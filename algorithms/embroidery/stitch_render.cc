@@ -90,6 +90,31 @@ StitchRender render_stitches(const StitchPlan& plan, const StitchRenderParams& p
   const float twist_amp = 0.14f * std::clamp((twist_px - 2.f) / 2.f, 0.f, 1.f);
   const float kTwoPi = 6.28318530718f;
 
+  // Shading across a thread: a lit cylinder whose surface normal leans out with the signed
+  // distance c from the axis (flanks dark, the highlight towards the light), box-filtered over
+  // a pixel's width so a highlight narrower than a pixel does not sparkle on some pixels only.
+  // It depends on the stitch only through its direction, so it is tabulated once over c in
+  // [-r - 1, r + 1] (kLut entries) for kAngles directions across; pixels read the table.
+  constexpr int kLut = 48, kSub = 8, kAngles = 64;
+  const float lut_half = r + 1.f, lut_step = 2.f * lut_half / (kLut - 1);
+  std::vector<float> shade_lut(kAngles * kLut), spec_lut(kAngles * kLut);
+  for (int ai = 0; ai < kAngles; ++ai) {
+    const float ang = kTwoPi * ai / kAngles;
+    const cv::Point2f across(std::cos(ang), std::sin(ang));
+    for (int i = 0; i < kLut; ++i) {
+      const float c0 = -lut_half + i * lut_step;
+      float sh = 0, sp = 0;
+      for (int k = 0; k < kSub; ++k) {
+        const float w = std::clamp(c0 + ((k + 0.5f) / kSub - 0.5f), -0.98f * r, 0.98f * r) / r;
+        const cv::Vec3f n(w * across.x, w * across.y, std::sqrt(1.f - w * w));
+        sh += 0.28f + 0.85f * std::max(0.f, n.dot(kLight));
+        sp += std::pow(std::max(0.f, n.dot(kHalf)), 14.f);
+      }
+      shade_lut[ai * kLut + i] = sh / kSub;
+      spec_lut[ai * kLut + i] = sp / kSub;
+    }
+  }
+
   // Premultiplied thread colour and coverage, composited in sewing order.
   cv::Mat3f color(p.size, cv::Vec3f(0, 0, 0));
   cv::Mat1f alpha(p.size, 0.f);
@@ -103,30 +128,31 @@ StitchRender render_stitches(const StitchPlan& plan, const StitchRenderParams& p
       const cv::Point2f d = g.b - g.a;
       const float len2 = d.dot(d), len = std::sqrt(len2);
       const cv::Point2f along = d / len, across(-along.y, along.x);
+      const int ai = static_cast<int>(std::lround(std::atan2(across.y, across.x) / kTwoPi * kAngles) + kAngles) % kAngles;
+      const float* shade = &shade_lut[ai * kLut];
+      const float* spec = &spec_lut[ai * kLut];
       for (int y = y0; y <= y1; ++y) {
         cv::Vec3f* crow = color.ptr<cv::Vec3f>(y);
         float* arow = alpha.ptr<float>(y);
         for (int x = x0; x <= x1; ++x) {
           const cv::Point2f v(x - g.a.x, y - g.a.y);
-          const float t = std::clamp(v.dot(d) / len2, 0.f, 1.f);
-          const cv::Point2f q = v - t * d;   // from the thread's axis (or its end) to the pixel
-          const float dist = std::sqrt(q.dot(q));
-          // Area of the pixel inside the thread, for a thread at least a pixel wide.
-          const float cov = std::clamp(r + 0.5f - dist, 0.f, 1.f);
+          const float a = v.dot(along);                 // along the thread from its start, px
+          const float ta = std::clamp(a, 0.f, len);
+          const cv::Point2f q = v - ta * along;         // from the axis (or its end) to the pixel
+          // Coverage: the area of the pixel inside a thread at least a pixel wide.
+          const float cov = std::clamp(r + 0.5f - std::sqrt(q.dot(q)), 0.f, 1.f);
           if (cov <= 0.f) continue;
-          // A lit cylinder with round ends: the surface normal leans out with the distance
-          // from the axis, so the flanks are dark and the highlight sits towards the light.
-          const float k = std::min(dist / r, 0.98f);
-          const cv::Point2f nq = dist > 1e-6f ? q * (k / dist) : cv::Point2f(0, 0);
-          const cv::Vec3f n(nq.x, nq.y, std::sqrt(1.f - k * k));
-          const float diffuse = std::max(0.f, n.dot(kLight));
-          const float spec = std::pow(std::max(0.f, n.dot(kHalf)), 28.f);
-          float shade = 0.28f + 0.85f * diffuse;
-          if (twist_amp > 0) {
-            const float a = v.dot(along), c = q.dot(across);
-            shade *= 1.f - twist_amp * (0.5f + 0.5f * std::cos(kTwoPi * (a + 1.2f * c) / twist_px));
-          }
-          const cv::Vec3f lit = g.bgr * shade + cv::Vec3f(1, 1, 1) * (110.f * spec);
+          const float c = v.dot(across);
+          const float fi = std::clamp((c + lut_half) / lut_step, 0.f, kLut - 1.001f);
+          const int i = static_cast<int>(fi);
+          const float f = fi - i;
+          float sh = shade[i] + f * (shade[i + 1] - shade[i]);
+          const float hi = spec[i] + f * (spec[i + 1] - spec[i]);
+          // Past the needle point the thread dips into the fabric: its round end darkens.
+          const float e = std::abs(a - ta) / r;
+          if (e > 0) sh *= 1.f - 0.45f * std::min(1.f, e * e);
+          if (twist_amp > 0) sh *= 1.f - twist_amp * (0.5f + 0.5f * std::cos(kTwoPi * (a + 1.2f * c) / twist_px));
+          const cv::Vec3f lit = g.bgr * sh + cv::Vec3f(1, 1, 1) * (70.f * hi * (1.f - std::min(1.f, e)));
           crow[x] = lit * cov + crow[x] * (1.f - cov);
           arow[x] = cov + arow[x] * (1.f - cov);
         }
