@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "algorithms/embroidery/pipeline.h"
@@ -122,6 +123,7 @@ struct Agreement {
   double iou = 0;            // |preview thread & stitch thread| / |preview thread | stitch thread|
   double preview_only = 0;   // fraction of the union the preview shows as thread, the stitches not
   double stitches_only = 0;
+  double sewn[kStyleCount] = {1, 1, 1};   // per top style: share of its preview pixels sewn
 };
 
 // Thread in the preview: pixels the synthesis gives a style (its top layer); in the stitch
@@ -138,7 +140,15 @@ Agreement agreement(const Design& d, StitchRender* render_out = nullptr) {
   a.iou = cv::countNonZero(preview & stitches) / uni;
   a.preview_only = cv::countNonZero(preview & ~stitches) / uni;
   a.stitches_only = cv::countNonZero(stitches & ~preview) / uni;
+  for (int st = 0; st < kStyleCount; ++st) {
+    const cv::Mat1b of_style = d.synthesis.style == st + 1;
+    const int n = cv::countNonZero(of_style);
+    if (n > 0) a.sewn[st] = static_cast<double>(cv::countNonZero(of_style & stitches)) / n;
+  }
   if (render_out) *render_out = r;
+  std::printf("thread masks: IoU %.3f, preview only %.3f, stitches only %.3f of the union (%d px); preview "
+              "pixels sewn: long-short %.3f, satin %.3f, edge %.3f\n",
+              a.iou, a.preview_only, a.stitches_only, static_cast<int>(uni), a.sewn[0], a.sewn[1], a.sewn[2]);
   return a;
 }
 
@@ -148,19 +158,26 @@ Design design_of(const cv::Mat& img, double width_mm) {
   return make_design(img, procedural_textures(), p);
 }
 
-// The threshold: IoU of the two thread masks >= 0.9. IoU, not the share of agreeing pixels,
-// because the bare fabric around a design would inflate the latter; 0.9 leaves room for
-// what is not a disagreement: the preview's regions are dilated by overlap_mm (0.25 mm) and
-// the stitches' pull compensation widens satin by 0.2 mm, so each mask has a rim of about a
-// pixel the other lacks.
-constexpr double kMinIoU = 0.9;
+// The thresholds: the IoU of the two thread masks >= 0.9, and per style, of the preview's
+// thread pixels of that style, >= 95 % carry stitch thread. IoU, not the share of agreeing
+// pixels, because bare fabric around a design would inflate the latter; the per-style share
+// because a whole style left bare (satin) can hide in a good IoU when it covers little of the
+// design. What is left to 100 % is not a disagreement: satin's pull compensation (0.2 mm)
+// sews a rim the preview leaves, and fill rows end a little inside a region's edge.
+// Edges sewn as a running stitch (strokes under edge_satin_min_mm) are measured and printed,
+// not asserted: the preview draws the stroke's width, the running stitch 0.4 mm of it.
+constexpr double kMinIoU = 0.9, kMinSewn = 0.95;
+
+void expect_agreement(const Agreement& a, const char* what) {
+  EXPECT_GE(a.iou, kMinIoU) << what << ": preview only " << a.preview_only << ", stitches only " << a.stitches_only;
+  EXPECT_GE(a.sewn[static_cast<int>(Style::long_short)], kMinSewn) << what << ": long-short";
+  EXPECT_GE(a.sewn[static_cast<int>(Style::satin)], kMinSewn) << what << ": satin";
+}
 
 TEST(StitchRenderAgreement, PreviewAndStitchesCarryThreadOnTheSamePixelsOfAPhoto) {
   const cv::Mat img = cv::imread(std::string(ATELIER_TEST_DATA) + "/fruits.jpg", cv::IMREAD_COLOR);
   ASSERT_FALSE(img.empty());
-  const Design d = design_of(img, 90);
-  const Agreement a = agreement(d);
-  EXPECT_GE(a.iou, kMinIoU) << "preview only " << a.preview_only << ", stitches only " << a.stitches_only;
+  expect_agreement(agreement(design_of(img, 90)), "fruits.jpg");
 }
 
 TEST(StitchRenderAgreement, PreviewAndStitchesCarryThreadOnTheSamePixelsOfADrawing) {
@@ -171,8 +188,7 @@ TEST(StitchRenderAgreement, PreviewAndStitchesCarryThreadOnTheSamePixelsOfADrawi
   cv::ellipse(img, {450, 250}, {130, 160}, 0, 200, 340, {60, 150, 40}, 30);
   cv::line(img, {60, 420}, {600, 430}, {120, 40, 30}, 6);
   cv::circle(img, {480, 330}, 70, {30, 170, 220}, 45);
-  const Agreement a = agreement(design_of(img, 90));
-  EXPECT_GE(a.iou, kMinIoU) << "preview only " << a.preview_only << ", stitches only " << a.stitches_only;
+  expect_agreement(agreement(design_of(img, 90)), "drawing");
 }
 
 // A ring on white paper: the stitches leave its hole bare, and so must the preview (the paper
@@ -184,7 +200,7 @@ TEST(StitchRenderAgreement, ARingsHoleStaysBareFabricInThePreviewAsInTheStitches
   cv::circle(img, {200, 200}, 80, {255, 255, 255}, cv::FILLED);
   StitchRender r;
   const Design d = design_of(img, 80);
-  agreement(d, &r);
+  expect_agreement(agreement(d, &r), "ring");
   const cv::Point c(d.work_size.width / 2, d.work_size.height / 2);
   const int hole = static_cast<int>(0.8 * 80 * d.work_size.width / 400.0);   // radius, px, inside the hole
   cv::Mat1b inside(d.work_size, uchar(0));
