@@ -165,6 +165,7 @@ std::string thread_sheet_pdf(const ThreadSheet& s) {
   y += 5 * kMm;
   const double pic = draw_picture(cr, s.picture, kMargin, y, kPictureW, kPictureH);
   y += pic + (pic > 0 ? 10 * kMm : 4 * kMm);
+  cairo_set_source_rgb(cr, 0, 0, 0);   // the picture's frame left grey
   chart_text(cr, kMargin, y, "Colour order", 12, true);
   y += 8 * kMm;
   table_header(cr, y);
