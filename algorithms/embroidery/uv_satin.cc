@@ -1,9 +1,11 @@
 #include "algorithms/embroidery/uv_satin.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "algorithms/embroidery/skeleton.h"
@@ -144,10 +146,14 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
   // 6: u along the pairs' lines, v from their order, blended with eq. 7.
   RegionUV out = region_uv_with_angles(box, mask, direction);
   const float window = static_cast<float>(std::max(3.0, 0.5 * tile_h_px));
-  bool missing = false;
+  std::atomic<bool> missing{false};
+  // Rows are independent (each pixel reads the pairs and writes itself only): a large region
+  // is split into bands, so it does not keep one thread busy while the other idles (OpenCV
+  // runs a parallel_for_ nested in the synthesis' one serially).
+  auto rows = [&](const cv::Range& range) {
   cv::Point2f last_t(0, 0);
   float last_angle = std::atan2(-last_t.x, last_t.y);
-  for (int y = 0; y < mask.rows; ++y)
+  for (int y = range.start; y < range.end; ++y)
     for (int x = 0; x < mask.cols; ++x) {
       if (!mask(y, x)) continue;
       int b;
@@ -201,6 +207,9 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
       if (t != last_t) last_t = t, last_angle = std::atan2(-t.x, t.y);   // neighbours share a sample
       out.angle(y, x) = last_angle;
     }
+  };
+  if (mask.total() > 40000) cv::parallel_for_(cv::Range(0, mask.rows), rows);
+  else rows(cv::Range(0, mask.rows));
   if (missing) {
     // Sub-regions with no pair (a branch whose contour lies on one side only) take the
     // long-short map in the region's direction.
