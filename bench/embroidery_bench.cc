@@ -7,15 +7,21 @@
 // (the design is 10 px per mm, the files' unit, so nothing is resampled), on a hoop large
 // enough for it; BM_EmbroideryDefault is what a user gets dropping the image for a 100 mm
 // design with the other parameters at their defaults (the pipeline works at most at 10 px/mm:
-// 1000x1000 for a 1600 px image).
+// 1000x1000 for a 1600 px image). BM_EmbroideryStage times one stage of that default case on
+// its own (the design is made once, outside the timing): synthesis (the paper's preview),
+// plan (the machine's stitches) and render (stitches.png from the plan); segmentation is the
+// rest of BM_EmbroideryDefault's total.
 #include <benchmark/benchmark.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <map>
 #include <stdexcept>
 #include <string>
 
+#include "algorithms/embroidery/directions.h"
 #include "algorithms/embroidery/pipeline.h"
+#include "algorithms/embroidery/stitch_render.h"
 
 namespace {
 
@@ -67,6 +73,52 @@ void BM_EmbroideryDefault(benchmark::State& state) {
   p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 130;
   run_design(state, p);
 }
+
+// The default 1600x1600 design of `which`, made once per process and image.
+const emb::Design& default_design(int which) {
+  static std::map<int, emb::Design> made;
+  auto it = made.find(which);
+  if (it == made.end()) {
+    emb::DesignParams p;
+    p.width_mm = 100;
+    p.stitches.hoop_width_mm = p.stitches.hoop_height_mm = 130;
+    it = made.emplace(which, emb::make_design(image(which, 1600, 1600), emb::procedural_textures(), p)).first;
+  }
+  return it->second;
+}
+
+// args: stage (0 synthesis, 1 plan, 2 render), image index.
+void BM_EmbroideryStage(benchmark::State& state) {
+  const int stage = static_cast<int>(state.range(0)), which = static_cast<int>(state.range(1));
+  const emb::Design& d = default_design(which);
+  const emb::TextureSet textures = emb::procedural_textures();
+  emb::DesignParams dp;
+  emb::SynthesisParams sp = dp.synthesis;
+  sp.px_per_mm = d.px_per_mm;
+  sp.dilate_px = static_cast<int>(std::lround(dp.overlap_mm * d.px_per_mm));
+  emb::StitchParams st = dp.stitches;
+  st.px_per_mm = d.px_per_mm;
+  st.hoop_width_mm = st.hoop_height_mm = 130;
+  emb::StitchRenderParams rp;
+  rp.size = d.work_size;
+  rp.px_per_mm = d.px_per_mm;
+  for (auto _ : state) {
+    switch (stage) {
+      case 0: benchmark::DoNotOptimize(emb::synthesize(d.segmentation, d.directions, textures, sp).preview.data); break;
+      case 1: benchmark::DoNotOptimize(emb::plan_stitches(d.segmentation, d.directions, st).points.data()); break;
+      case 2: benchmark::DoNotOptimize(emb::render_stitches(d.plan, rp).image.data); break;
+    }
+  }
+  static const char* const kStage[] = {"synthesis", "plan", "render"};
+  state.SetLabel(std::string(kStage[stage]) + " of 1600x1600 " + kImages[which] + " worked at " +
+                 std::to_string(d.work_size.width) + "x" + std::to_string(d.work_size.height));
+}
+
+BENCHMARK(BM_EmbroideryStage)
+    ->ArgsProduct({{0, 1, 2}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
 
 BENCHMARK(BM_EmbroideryDefault)
     ->Args({1600, 1600, 0})

@@ -1,9 +1,11 @@
 #include "algorithms/embroidery/uv_satin.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "algorithms/embroidery/skeleton.h"
@@ -17,21 +19,45 @@ struct Sample {
   int k;   // index along the branch's curve
 };
 
-struct ContourPx {
-  float s;   // foot point: arc length along the branch's curve
-  cv::Point2f p;
-};
-
-struct Pair {
-  cv::Point2f c0, c1;   // c0 on the +normal side (u = 0), c1 on the other (u = 1)
-  float s_mid;          // where along the curve it sits
-  float v;              // unwrapped: piece index + relative contour order
-  cv::Point2f e;        // c1 - c0
-  float len = 0;        // |e|
-  float inv_len2 = 0;   // 1 / |e|^2 (0 for a degenerate pair): u without a division per pixel
-};
-
 }  // namespace
+
+std::vector<SatinPair> pair_satin_sides(const std::vector<SatinContourPx>& A, const std::vector<SatinContourPx>& B,
+                                        double tile_h_px) {
+  std::vector<SatinPair> pairs;
+  if (!(tile_h_px > 0) || !std::isfinite(tile_h_px)) return pairs;
+  // Every pixel's piece is its own integer, from one division; a piece gathers the pixels
+  // whose index is at most the current one. Comparing s with a piece end rounded to float
+  // instead stalled when a pixel's s equalled that rounded end (issue 21: a hang): here the
+  // pixel at the minimum always belongs to the current piece, so each pass takes at least one
+  // pixel and the loop ends after at most |A| + |B| passes.
+  auto piece_of = [&](float s) {
+    const double q = std::floor(static_cast<double>(s) / tile_h_px);
+    return std::isfinite(q) ? static_cast<long long>(std::clamp(q, -1e15, 1e15)) : 0LL;
+  };
+  size_t ia = 0, ib = 0;
+  while (ia < A.size() || ib < B.size()) {
+    long long piece;
+    if (ia < A.size() && ib < B.size()) piece = std::min(piece_of(A[ia].s), piece_of(B[ib].s));
+    else piece = ia < A.size() ? piece_of(A[ia].s) : piece_of(B[ib].s);
+    size_t ja = ia, jb = ib;
+    while (ja < A.size() && piece_of(A[ja].s) <= piece) ++ja;
+    while (jb < B.size() && piece_of(B[jb].s) <= piece) ++jb;
+    const size_t na = ja - ia, nbb = jb - ib, m = std::max(na, nbb);
+    if (na > 0 && nbb > 0)
+      for (size_t i = 0; i < m; ++i) {   // one-to-many when the sides differ
+        const double f = (i + 0.5) / m;
+        const SatinContourPx& a = A[ia + std::min(na - 1, static_cast<size_t>(f * na))];
+        const SatinContourPx& c = B[ib + std::min(nbb - 1, static_cast<size_t>(f * nbb))];
+        const cv::Point2f e = c.p - a.p;
+        const float len = std::sqrt(e.dot(e));
+        pairs.push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(static_cast<double>(piece) + f), e, len,
+                         len > 1e-6f ? 1.f / (len * len) : 0.f});
+      }
+    ia = ja;
+    ib = jb;
+  }
+  return pairs;
+}
 
 RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, double tile_h_px,
                   double direction) {
@@ -82,7 +108,7 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
   // 4: contour pixels of each sub-region (the region contour, completed by the split between
   // sub-regions), per side, ordered by foot point.
   const int nb = static_cast<int>(branches.size());
-  std::vector<std::vector<ContourPx>> side[2];
+  std::vector<std::vector<SatinContourPx>> side[2];
   side[0].resize(nb);
   side[1].resize(nb);
   cv::Mat1i branch_of(mask.size(), -1);
@@ -108,45 +134,26 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
     }
 
   // 5: pieces one tile high along the curve; pairs by relative order within each piece.
-  std::vector<std::vector<Pair>> pairs(nb);
+  std::vector<std::vector<SatinPair>> pairs(nb);
   for (int b = 0; b < nb; ++b) {
     for (auto& sd : side) {
-      std::stable_sort(sd[b].begin(), sd[b].end(), [](const ContourPx& a, const ContourPx& c) { return a.s < c.s; });
+      std::stable_sort(sd[b].begin(), sd[b].end(), [](const SatinContourPx& a, const SatinContourPx& c) { return a.s < c.s; });
     }
-    const auto& A = side[0][b];
-    const auto& B = side[1][b];
-    size_t ia = 0, ib = 0;
-    while (ia < A.size() || ib < B.size()) {
-      const float sa = ia < A.size() ? A[ia].s : 1e30f, sb = ib < B.size() ? B[ib].s : 1e30f;
-      const int piece = static_cast<int>(std::floor(std::min(sa, sb) / tile_h_px));
-      const float end = static_cast<float>((piece + 1) * tile_h_px);
-      size_t ja = ia, jb = ib;
-      while (ja < A.size() && A[ja].s < end) ++ja;
-      while (jb < B.size() && B[jb].s < end) ++jb;
-      const size_t na = ja - ia, nbb = jb - ib, m = std::max(na, nbb);
-      if (na > 0 && nbb > 0)
-        for (size_t i = 0; i < m; ++i) {   // one-to-many when the sides differ
-          const double f = (i + 0.5) / m;
-          const ContourPx& a = A[ia + std::min(na - 1, static_cast<size_t>(f * na))];
-          const ContourPx& c = B[ib + std::min(nbb - 1, static_cast<size_t>(f * nbb))];
-          const cv::Point2f e = c.p - a.p;
-          const float len = std::sqrt(e.dot(e));
-          pairs[b].push_back({a.p, c.p, 0.5f * (a.s + c.s), static_cast<float>(piece + f), e, len,
-                              len > 1e-6f ? 1.f / (len * len) : 0.f});
-        }
-      ia = ja;
-      ib = jb;
-    }
-    std::stable_sort(pairs[b].begin(), pairs[b].end(), [](const Pair& a, const Pair& c) { return a.s_mid < c.s_mid; });
+    pairs[b] = pair_satin_sides(side[0][b], side[1][b], tile_h_px);
+    std::stable_sort(pairs[b].begin(), pairs[b].end(), [](const SatinPair& a, const SatinPair& c) { return a.s_mid < c.s_mid; });
   }
 
   // 6: u along the pairs' lines, v from their order, blended with eq. 7.
   RegionUV out = region_uv_with_angles(box, mask, direction);
   const float window = static_cast<float>(std::max(3.0, 0.5 * tile_h_px));
-  bool missing = false;
+  std::atomic<bool> missing{false};
+  // Rows are independent (each pixel reads the pairs and writes itself only): a large region
+  // is split into bands, so it does not keep one thread busy while the other idles (OpenCV
+  // runs a parallel_for_ nested in the synthesis' one serially).
+  auto rows = [&](const cv::Range& range) {
   cv::Point2f last_t(0, 0);
   float last_angle = std::atan2(-last_t.x, last_t.y);
-  for (int y = 0; y < mask.rows; ++y)
+  for (int y = range.start; y < range.end; ++y)
     for (int x = 0; x < mask.cols; ++x) {
       if (!mask(y, x)) continue;
       int b;
@@ -160,9 +167,9 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
         continue;
       }
       const cv::Point2f p(static_cast<float>(x), static_cast<float>(y));
-      auto lo = std::lower_bound(P.begin(), P.end(), s - window, [](const Pair& a, float v) { return a.s_mid < v; });
+      auto lo = std::lower_bound(P.begin(), P.end(), s - window, [](const SatinPair& a, float v) { return a.s_mid < v; });
       double sw = 0, su = 0, sv = 0;
-      auto pair_uv = [&](const Pair& q, double* u, double* dist) {
+      auto pair_uv = [&](const SatinPair& q, double* u, double* dist) {
         const cv::Point2f r = p - q.c0;
         *u = q.len > 1e-6f ? std::clamp(r.dot(q.e) / (q.len * q.len), 0.f, 1.f) : 0.5;
         *dist = q.len > 1e-6f ? std::abs(q.e.x * r.y - q.e.y * r.x) / q.len : std::sqrt(r.dot(r));
@@ -200,6 +207,9 @@ RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, 
       if (t != last_t) last_t = t, last_angle = std::atan2(-t.x, t.y);   // neighbours share a sample
       out.angle(y, x) = last_angle;
     }
+  };
+  if (mask.total() > 40000) cv::parallel_for_(cv::Range(0, mask.rows), rows);
+  else rows(cv::Range(0, mask.rows));
   if (missing) {
     // Sub-regions with no pair (a branch whose contour lies on one side only) take the
     // long-short map in the region's direction.

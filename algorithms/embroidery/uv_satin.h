@@ -22,6 +22,8 @@
 // Units: image pixels. Pure; thread-safe.
 #pragma once
 
+#include <vector>
+
 #include "algorithms/embroidery/uv_map.h"
 
 namespace atelier::embroidery {
@@ -31,5 +33,27 @@ namespace atelier::embroidery {
 // fallback only.
 RegionUV uv_satin(const cv::Mat1b& mask, const cv::Rect& box, double tile_w_px, double tile_h_px,
                   double direction);
+
+// Step 5 on its own (a pure function, for tests). A contour pixel of one side of a branch.
+struct SatinContourPx {
+  float s;          // foot point: arc length along the branch's curve, image pixels
+  cv::Point2f p;    // the pixel
+};
+// A pair of contour pixels across the column.
+struct SatinPair {
+  cv::Point2f c0, c1;   // c0 on the +normal side (u = 0), c1 on the other (u = 1)
+  float s_mid;          // where along the curve it sits
+  float v;              // unwrapped: piece index + relative order within the piece
+  cv::Point2f e;        // c1 - c0
+  float len = 0;        // |e|
+  float inv_len2 = 0;   // 1 / |e|^2 (0 for a degenerate pair)
+};
+// a, b: the two sides' contour pixels sorted by s. Pieces are tile_h_px long along s; within
+// each piece holding pixels of both sides they pair by relative order (one-to-many when the
+// counts differ); a piece with one side only gives no pair. Every pass consumes at least one
+// pixel, so it ends after at most a.size() + b.size() passes whatever the values (a
+// non-positive or non-finite tile_h_px gives no pair).
+std::vector<SatinPair> pair_satin_sides(const std::vector<SatinContourPx>& a, const std::vector<SatinContourPx>& b,
+                                        double tile_h_px);
 
 }  // namespace atelier::embroidery

@@ -13,6 +13,8 @@
 #include "convert/common/output_files.h"
 #include "convert/embroidery/dst_writer.h"
 #include "convert/embroidery/exp_writer.h"
+#include "convert/embroidery/thread_sheet.h"
+#include "algorithms/embroidery/stitch_render.h"
 
 namespace atelier {
 namespace fs = std::filesystem;
@@ -134,6 +136,18 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   write_output_png(req.output_dir / "preview.png", design.synthesis.preview);
   write_output_png(req.output_dir / "normal.png", design.synthesis.normal);
   write_output_png(req.output_dir / "regions.png", regions_image(design.segmentation));
+  // What the machine sews, drawn from the plan in the preview's frame (they overlay), and the
+  // operator's colour sheet with that picture.
+  emb::StitchRenderParams render;
+  render.size = design.work_size;
+  render.px_per_mm = design.px_per_mm;
+  render.fabric_bgr = params.design.synthesis.fabric_bgr;
+  const emb::StitchRender stitches = emb::render_stitches(design.plan, render);
+  write_output_png(req.output_dir / "stitches.png", stitches.image);
+  const emb::StitchStats plan_stats = emb::stitch_stats(design.plan);
+  write_thread_sheet({name, design.width_mm, design.height_mm, plan_stats.stitches, plan_stats.trims,
+                      thread_blocks(design.plan), stitches.image},
+                     req.output_dir / "threads.pdf");
 
   const emb::Segmentation& seg = design.segmentation;
   const double mm2_per_px = 1.0 / (design.px_per_mm * design.px_per_mm);
@@ -198,7 +212,8 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   };
   write_output(req.output_dir / "report.json", report.dump(2) + "\n");
   report_progress(req, 1.0);
-  return {report, {"design.dst", "design.exp", "preview.png", "normal.png", "regions.png", "report.json"}};
+  return {report, {"design.dst", "design.exp", "preview.png", "stitches.png", "normal.png", "regions.png",
+                  "threads.pdf", "report.json"}};
 }
 
 }  // namespace atelier

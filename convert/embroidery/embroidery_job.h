@@ -11,6 +11,9 @@
 //   design.dst    Tajima DST (convert/embroidery/dst_writer.h), label = the input's stem
 //   design.exp    Melco EXP (exp_writer.h)
 //   preview.png   the synthesized embroidery, at the working resolution
+//   stitches.png  the stitch plan drawn as thread (algorithms/embroidery/stitch_render.h), in
+//                 the preview's frame
+//   threads.pdf   the operator's colour sheet (thread_sheet.h)
 //   normal.png    its tangent-space normal map
 //   regions.png   the stitch-style labels (paper Fig. 3): long-short blue, satin green, edge
 //                 red, not sewn white; region borders dark

@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <vector>
 
 #include "algorithms/embroidery/uv_satin.h"
 #include "tests/unit/algorithms/embroidery/synthesis_fixture.h"
@@ -32,6 +33,57 @@ TEST(EmbroiderySynthesis, SatinStitchesCrossACurvedStripe) {
     }
   ASSERT_GT(tested, 2000);
   EXPECT_GT(across, 0.85 * tested);
+}
+
+// Issue 21 point 1: the pairing loop hung when a contour pixel's foot point s equalled a piece
+// end (piece + 1) * tile_h rounded to float, below the double value: `s < end` never held, so
+// the pass took no pixel and started again at the same one. Tile height of apple.jpg's case
+// (the satin tile is 1.2 mm; 388 px over 90 mm).
+TEST(UvSatinPairing, APixelOnAFloatRoundedPieceEndIsPairedAndTheLoopEnds) {
+  const double tile_h = 1.2 * 388 / 90.0;
+  // The first piece end as a float lies below the double one: floor(s / tile_h) = 0, yet
+  // s == (float)(1 * tile_h).
+  const float s_star = static_cast<float>(tile_h);
+  ASSERT_LT(static_cast<double>(s_star), tile_h);
+  ASSERT_EQ(std::floor(s_star / tile_h), 0.0);
+  const std::vector<SatinContourPx> a = {{0.5f, {0, 0}}, {s_star, {1, 0}}, {s_star + 1.f, {2, 0}}};
+  const std::vector<SatinContourPx> b = {{0.7f, {0, 9}}, {s_star + 0.5f, {2, 9}}};
+  const std::vector<SatinPair> pairs = pair_satin_sides(a, b, tile_h);
+  // Piece 0 holds a[0], a[1] and b[0] (two pairs, one-to-many), piece 1 a[2] and b[1].
+  ASSERT_EQ(pairs.size(), 3u);
+  EXPECT_EQ(pairs[1].c0, a[1].p);
+  EXPECT_EQ(pairs[1].c1, b[0].p);
+  EXPECT_FLOAT_EQ(pairs[0].v, 0.25f);
+  EXPECT_FLOAT_EQ(pairs[1].v, 0.75f);
+  EXPECT_FLOAT_EQ(pairs[2].v, 1.5f);
+  EXPECT_FLOAT_EQ(pairs[2].len, 9.f);
+}
+
+// Every float of that kind, at every piece end of a long column and for the tile heights of
+// widths 380..396 px over 90 mm: each s sits on its own side at a rounded piece end.
+TEST(UvSatinPairing, EndsForEveryFloatRoundedPieceEnd) {
+  for (int w = 380; w <= 396; ++w) {
+    const double tile_h = 1.2 * w / 90.0;
+    std::vector<SatinContourPx> a, b;
+    for (int k = 0; k < 300; ++k) {
+      const float end = static_cast<float>((k + 1) * tile_h);
+      a.push_back({end, {static_cast<float>(k), 0}});
+      b.push_back({end, {static_cast<float>(k), 5}});
+    }
+    const std::vector<SatinPair> pairs = pair_satin_sides(a, b, tile_h);
+    // Each side's pixel pairs with the other's (same piece, whatever the rounding).
+    ASSERT_EQ(pairs.size(), a.size()) << w;
+    for (size_t i = 0; i < pairs.size(); ++i) ASSERT_EQ(pairs[i].c0.x, pairs[i].c1.x) << w << " " << i;
+  }
+}
+
+TEST(UvSatinPairing, OneSidedPiecesAndBadTileHeightsGiveNoPairAndEnd) {
+  const std::vector<SatinContourPx> a = {{0.f, {0, 0}}, {100.f, {0, 1}}};
+  const std::vector<SatinContourPx> b = {{50.f, {0, 2}}};
+  EXPECT_TRUE(pair_satin_sides(a, b, 10.0).empty());
+  EXPECT_TRUE(pair_satin_sides(a, a, 0.0).empty());
+  EXPECT_TRUE(pair_satin_sides(a, a, std::nan("")).empty());
+  EXPECT_EQ(pair_satin_sides(a, a, 1e-300).size(), 2u);   // pieces far beyond int range
 }
 
 }  // namespace
