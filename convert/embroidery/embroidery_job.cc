@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -12,6 +13,8 @@
 #include "convert/common/output_files.h"
 #include "convert/embroidery/dst_writer.h"
 #include "convert/embroidery/exp_writer.h"
+#include "convert/embroidery/jef_writer.h"
+#include "convert/embroidery/pes_writer.h"
 
 namespace atelier {
 namespace fs = std::filesystem;
@@ -79,6 +82,16 @@ emb::ReferenceTexture load_texture(const PathAccess& access, const fs::path& ima
   return t;
 }
 
+// JEF's header date, local time, "YYYYMMDDhhmmss".
+std::string jef_date() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  char buf[16];
+  std::strftime(buf, sizeof buf, "%Y%m%d%H%M%S", &tm);
+  return buf;
+}
+
 }  // namespace
 
 LoadedTextures load_textures(const PathAccess& access, const fs::path& given, double dpi,
@@ -130,6 +143,8 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   fs::create_directories(req.output_dir);
   write_output(req.output_dir / "design.dst", emb::write_dst(design.plan));
   write_output(req.output_dir / "design.exp", emb::write_exp(design.plan));
+  write_output(req.output_dir / "design.pes", emb::write_pes(design.plan));
+  write_output(req.output_dir / "design.jef", emb::write_jef(design.plan, jef_date()));
   write_output_png(req.output_dir / "preview.png", design.synthesis.preview);
   write_output_png(req.output_dir / "normal.png", design.synthesis.normal);
   write_output_png(req.output_dir / "regions.png", regions_image(design.segmentation));
@@ -182,12 +197,12 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
                      {"min_y", st.min_y_mm}, {"max_y", st.max_y_mm},
                      {"width", st.max_x_mm - st.min_x_mm}, {"height", st.max_y_mm - st.min_y_mm}}},
       {"hoop_mm", {sp.hoop_width_mm, sp.hoop_height_mm}},
-      {"files", {"design.dst", "design.exp"}},
+      {"files", {"design.dst", "design.exp", "design.pes", "design.jef"}},
       {"textures", textures_used},
   };
   write_output(req.output_dir / "report.json", report.dump(2) + "\n");
   report_progress(req, 1.0);
-  return {report, {"design.dst", "design.exp", "preview.png", "normal.png", "regions.png", "report.json"}};
+  return {report, {"design.dst", "design.exp", "design.pes", "design.jef", "preview.png", "normal.png", "regions.png", "report.json"}};
 }
 
 }  // namespace atelier
