@@ -59,7 +59,7 @@ std::vector<std::pair<long, long>> plan_positions(const StitchPlan& plan, const 
 
 TEST(EmbroideryPes, KnownBytesOfThePecMoves) {
   StitchPlan plan;
-  plan.colors_rgb = {0xff0000, 0x000000};
+  plan.colors_rgb = {0xED171F, 0x000000};  // Brother's own red and black
   plan.points = {{0.1, 0},  {0.1, 10.1},  {0, 0, StitchKind::trim}, {-20.0, 10.1, StitchKind::jump},
                  {0, 0, StitchKind::color_change}, {-26.4, 10.1}, {0, 0, StitchKind::end}};
   const std::string bytes = write_pes(plan);
@@ -74,7 +74,7 @@ TEST(EmbroideryPes, KnownBytesOfThePecMoves) {
       0x40, 0x00,              // x -64 is still 7-bit; y 0
       0xFF});                  // end
   EXPECT_EQ(moves, want);
-  EXPECT_EQ(f.threads, (std::vector<int>{nearest_thread(pec_threads(), 0xff0000), nearest_thread(pec_threads(), 0)}));
+  EXPECT_EQ(f.threads, (std::vector<int>{nearest_thread(pec_threads(), 0xED171F), nearest_thread(pec_threads(), 0)}));
   EXPECT_EQ(f.threads[0], 5);   // Brother's "Red"
   EXPECT_EQ(f.threads[1], 20);  // "Black"
 }
