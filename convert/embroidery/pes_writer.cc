@@ -227,6 +227,8 @@ void pes_part(std::string& out, const StitchPlan& plan, const Extent& e, const s
   u16(out, 1);              // scale to fit
   u16(out, small ? 0 : 1);  // hoop: 0 = 100 x 100 mm, 1 = 130 x 180 mm
   const std::vector<Segment> segs = segments(plan, threads);
+  if (segs.size() > 0xFFFF)
+    throw std::invalid_argument("PES: " + std::to_string(segs.size()) + " runs of stitches and jumps; CSewSeg counts at most 65535");
   if (segs.empty()) {
     u16(out, 0);  // no block
     u16(out, 0), u16(out, 0);

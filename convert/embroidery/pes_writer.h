@@ -42,7 +42,8 @@ inline constexpr int kPecMaxColors = 255;                     // colour blocks (
 //   trim with no jump after it is a trim-flagged zero move); any move longer than 2047
 //   becomes several (split_move); colour change FE B0 02 / FE B0 01 alternately; end FF.
 // Throws std::invalid_argument for an invalid plan (validate_plan), more than 255 colour
-// blocks, or a design whose extent does not fit the 16-bit size fields.
+// blocks, more than 65535 CSewSeg segments, or a design whose extent does not fit the 16-bit
+// size fields.
 std::string write_pes(const StitchPlan& plan);
 
 }  // namespace atelier::embroidery
