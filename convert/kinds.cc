@@ -56,6 +56,7 @@ std::vector<KindInfo> make_kinds() {
                .machine_input = MachineInput::stitch_files,
                .machine_file = kDesignStem,
                .formats = stitch_formats(),
+               .default_formats = default_stitch_formats(),
                .drivers = {{kFileDropDriver, true}}});
   k.push_back({.name = "lace",
                .input = KindInput::job_file,

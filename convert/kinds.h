@@ -63,6 +63,7 @@ struct KindInfo {
   MachineInput machine_input = MachineInput::none;
   std::string_view machine_file;          // see MachineInput; empty for none
   std::vector<std::string_view> formats;  // stitch_files: the formats written ("dst", ...)
+  std::vector<std::string_view> default_formats;  // those a device delivers when it names none
   std::vector<DriverUse> drivers;         // which device drivers can take it
   // Files that travel with an input NAME.EXT as NAME.EXT<suffix> (besides the .toml sidecar
   // every kind has): claimed, kept and retried with it.

@@ -13,11 +13,12 @@
 namespace atelier {
 namespace {
 
-// Stitch-file formats a file-drop device can deliver (the formats its kinds write).
-std::vector<std::string> drop_formats() {
+// Stitch-file formats a file-drop device can deliver (the formats its kinds write), or those
+// it delivers when its `formats` names none.
+std::vector<std::string> drop_formats(bool default_only = false) {
   std::vector<std::string> out;
   for (const std::string& kind : kinds_for_driver(kFileDropDriver))
-    for (std::string_view f : find_kind(kind)->formats)
+    for (std::string_view f : default_only ? find_kind(kind)->default_formats : find_kind(kind)->formats)
       if (std::find(out.begin(), out.end(), f) == out.end()) out.emplace_back(f);
   return out;
 }
@@ -63,7 +64,7 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   d.autostart = r.get_bool("autostart", drop);
   d.dir = r.get_string("dir", "");
   const std::vector<std::string> formats = drop_formats();
-  d.formats = r.get_string_list("formats", drop ? formats : std::vector<std::string>{});
+  d.formats = r.get_string_list("formats", drop ? drop_formats(true) : std::vector<std::string>{});
   if (knitter) {
     d.mode = r.get_choice("mode", "single-bed", {"single-bed", "classic-ribber", "circular"});
     d.start_needle = static_cast<int>(r.get_int("start_needle", -1, -1, 200));

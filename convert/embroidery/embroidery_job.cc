@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -13,8 +14,11 @@
 #include "convert/common/output_files.h"
 #include "convert/embroidery/dst_writer.h"
 #include "convert/embroidery/exp_writer.h"
-#include "convert/embroidery/thread_sheet.h"
 #include "algorithms/embroidery/stitch_render.h"
+#include "convert/embroidery/jef_writer.h"
+#include "convert/embroidery/pes_writer.h"
+#include "convert/embroidery/thread_palettes.h"
+#include "convert/embroidery/thread_sheet.h"
 
 namespace atelier {
 namespace fs = std::filesystem;
@@ -82,6 +86,31 @@ emb::ReferenceTexture load_texture(const PathAccess& access, const fs::path& ima
   return t;
 }
 
+// JEF's header date, local time, "YYYYMMDDhhmmss".
+std::string jef_date() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  char buf[16];
+  std::strftime(buf, sizeof buf, "%Y%m%d%H%M%S", &tm);
+  return buf;
+}
+
+// The sheet's blocks, each with the threads design.pes and design.jef name for it (the same
+// assignment the writers make), so the operator loads what the machine's screen asks for.
+std::vector<ThreadBlock> sheet_blocks(const emb::StitchPlan& plan) {
+  std::vector<ThreadBlock> blocks = thread_blocks(plan);
+  const std::vector<std::uint32_t> colors = emb::block_colors(plan);
+  const std::vector<int> pec = emb::assign_threads(emb::pec_threads(), colors);
+  const std::vector<int> jef = emb::assign_threads(emb::jef_threads(), colors);
+  for (std::size_t i = 0; i < blocks.size() && i < colors.size(); ++i) {
+    const emb::Thread& b = emb::pec_threads()[pec[i] - 1];
+    const emb::Thread& j = emb::jef_threads()[jef[i] - 1];
+    blocks[i].thread = std::string("Brother ") + b.name + "\nJanome " + j.code + " " + j.name;
+  }
+  return blocks;
+}
+
 }  // namespace
 
 LoadedTextures load_textures(const PathAccess& access, const fs::path& given, double dpi,
@@ -133,6 +162,8 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   fs::create_directories(req.output_dir);
   write_output(req.output_dir / "design.dst", emb::write_dst(design.plan));
   write_output(req.output_dir / "design.exp", emb::write_exp(design.plan));
+  write_output(req.output_dir / "design.pes", emb::write_pes(design.plan));
+  write_output(req.output_dir / "design.jef", emb::write_jef(design.plan, jef_date()));
   write_output_png(req.output_dir / "preview.png", design.synthesis.preview);
   write_output_png(req.output_dir / "normal.png", design.synthesis.normal);
   write_output_png(req.output_dir / "regions.png", regions_image(design.segmentation));
@@ -146,7 +177,7 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   write_output_png(req.output_dir / "stitches.png", stitches.image);
   const emb::StitchStats plan_stats = emb::stitch_stats(design.plan);
   write_thread_sheet({name, design.width_mm, design.height_mm, plan_stats.stitches, plan_stats.trims,
-                      thread_blocks(design.plan), stitches.image},
+                      sheet_blocks(design.plan), stitches.image},
                      req.output_dir / "threads.pdf");
 
   const emb::Segmentation& seg = design.segmentation;
@@ -207,13 +238,13 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
                      {"min_y", st.min_y_mm}, {"max_y", st.max_y_mm},
                      {"width", st.max_x_mm - st.min_x_mm}, {"height", st.max_y_mm - st.min_y_mm}}},
       {"hoop_mm", {sp.hoop_width_mm, sp.hoop_height_mm}},
-      {"files", {"design.dst", "design.exp"}},
+      {"files", {"design.dst", "design.exp", "design.pes", "design.jef"}},
       {"textures", textures_used},
   };
   write_output(req.output_dir / "report.json", report.dump(2) + "\n");
   report_progress(req, 1.0);
-  return {report, {"design.dst", "design.exp", "preview.png", "stitches.png", "normal.png", "regions.png",
-                  "threads.pdf", "report.json"}};
+  return {report, {"design.dst", "design.exp", "design.pes", "design.jef", "preview.png", "stitches.png",
+                   "normal.png", "regions.png", "threads.pdf", "report.json"}};
 }
 
 }  // namespace atelier

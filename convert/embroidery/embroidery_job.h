@@ -10,6 +10,8 @@
 // Writes into the output folder, each file atomically (output_files.h):
 //   design.dst    Tajima DST (convert/embroidery/dst_writer.h), label = the input's stem
 //   design.exp    Melco EXP (exp_writer.h)
+//   design.pes    Brother PES v1 with its PEC section (pes_writer.h)
+//   design.jef    Janome JEF (jef_writer.h)
 //   preview.png   the synthesized embroidery, at the working resolution
 //   stitches.png  the stitch plan drawn as thread (algorithms/embroidery/stitch_render.h), in
 //                 the preview's frame
@@ -34,9 +36,15 @@
 
 namespace atelier {
 
-// The stitch files: design.<format>, one per format written.
+// The stitch files: design.<format>, one per format written. A file-drop device delivers the
+// default ones when its `formats` names none (the commercial machines' formats, as before PES
+// and JEF were written).
 inline constexpr const char* kDesignStem = "design";
 inline const std::vector<std::string_view>& stitch_formats() {
+  static const std::vector<std::string_view> formats{"dst", "exp", "pes", "jef"};
+  return formats;
+}
+inline const std::vector<std::string_view>& default_stitch_formats() {
   static const std::vector<std::string_view> formats{"dst", "exp"};
   return formats;
 }

@@ -133,7 +133,16 @@ void table_row(cairo_t* cr, double y, int number, const ThreadBlock& b) {
   cairo_set_line_width(cr, 0.5);
   cairo_stroke(cr);
   chart_text(cr, kRgbX, y, hex(b.rgb), 10, false);
-  chart_text(cr, kThreadX, y, b.thread.empty() ? "-" : b.thread, 10, false);
+  // A thread of two catalogues ("Brother ...\nJanome ...") takes two smaller lines.
+  const std::size_t nl = b.thread.find('\n');
+  if (b.thread.empty()) {
+    chart_text(cr, kThreadX, y, "-", 10, false);
+  } else if (nl == std::string::npos) {
+    chart_text(cr, kThreadX, y, b.thread, 10, false);
+  } else {
+    chart_text(cr, kThreadX, y - 2.2 * kMm, b.thread.substr(0, nl), 8, false);
+    chart_text(cr, kThreadX, y + 1.0 * kMm, b.thread.substr(nl + 1), 8, false);
+  }
   chart_text(cr, kStitchesX, y, std::to_string(b.stitches), 10, false, 1.0);
   chart_text(cr, kLengthX, y, fmt("%.2f", b.length_m), 10, false, 1.0);
   cairo_set_source_rgb(cr, 0.8, 0.8, 0.8);

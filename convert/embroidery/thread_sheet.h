@@ -22,7 +22,7 @@ struct ThreadBlock {
   std::uint32_t rgb = 0;   // 0xRRGGBB
   int stitches = 0;        // needle penetrations of kind `stitch` in the block
   double length_m = 0;     // the stitches' length as sewn (top thread on the fabric), metres
-  std::string thread;      // a catalogue name (e.g. a PEC or Janome thread), empty if none
+  std::string thread;      // catalogue names (e.g. PEC, Janome), one per line; empty if none
 };
 
 // Per colour block of the plan, in sewing order (a block ends at each colour change; the

@@ -135,13 +135,22 @@ TEST(Config, AFileDropDeviceDeliversEmbroideryInDstAndExpWithoutBeingStarted) {
   EXPECT_TRUE(c.devices[0].autostart);
 }
 
+TEST(Config, AFileDropDeviceForAHomeMachineDeliversPesAndJef) {
+  const atelier::Config c = atelier::parse_config(
+      "[spool]\ndir = \"/s\"\n[[device]]\nname = \"brother\"\ndriver = \"file-drop\"\n"
+      "dir = \"/media/EMB\"\nformats = [\"pes\", \"jef\"]\n", "atelierd.toml");
+  ASSERT_EQ(c.devices.size(), 1u);
+  EXPECT_EQ(c.devices[0].formats, (std::vector<std::string>{"pes", "jef"}));
+}
+
 TEST(Config, AFileDropDeviceWithoutAFolderOrWithAnUnknownFormatIsRefused) {
   std::string e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n");
   EXPECT_NE(e.find("emb"), std::string::npos) << e;
   EXPECT_NE(e.find("dir"), std::string::npos) << e;
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n"
-               "dir = \"/m\"\nformats = [\"dst\", \"pes\"]\n");
-  EXPECT_NE(e.find("'pes'"), std::string::npos) << e;
+               "dir = \"/m\"\nformats = [\"dst\", \"vp3\"]\n");
+  EXPECT_NE(e.find("'vp3'"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"pes\", \"jef\""), std::string::npos) << e;  // the known ones are listed
   e = error_of("[spool]\ndir = \"/s\"\n[[device]]\nname = \"emb\"\ndriver = \"file-drop\"\n"
                "dir = \"/m\"\nkinds = [\"knit\"]\n");
   EXPECT_NE(e.find("embroidery jobs only"), std::string::npos) << e;

@@ -47,6 +47,8 @@ struct ReadyJob {
     jobs.transition(id, JobState::converting, "converting");
     atelier::test::write_file(layout.work(id) / "design.dst", std::string(515, 'D'));
     atelier::test::write_file(layout.work(id) / "design.exp", std::string(40, 'E'));
+    atelier::test::write_file(layout.work(id) / "design.pes", std::string(700, 'P'));
+    atelier::test::write_file(layout.work(id) / "design.jef", std::string(130, 'J'));
     jobs.finish_converted(id, JobState::ready, "converted; waiting for emb");
   }
 
@@ -104,6 +106,23 @@ TEST(FileDropDevice, WritesEveryFormatUnderTheJobsNameAndCompletesTheJob) {
   int entries = 0;
   for (const auto& e : fs::directory_iterator(stick)) entries += e.exists() ? 1 : 0;
   EXPECT_EQ(entries, 2) << "no temporary file may be left on the stick";
+}
+
+TEST(FileDropDevice, AHomeMachinesDeviceWritesExactlyItsFormats) {
+  ReadyJob r;
+  const fs::path stick = r.tmp.path() / "EMB";
+  fs::create_directories(stick);
+  DeviceConfig config = r.device(stick);
+  config.formats = {"pes", "jef"};
+  FileDropDevice device(config, r.jobs, nullptr, r.clock);
+  const atelier::Job job = r.run(device);
+  ASSERT_EQ(job.state, JobState::completed) << job.reason;
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(stick)) names.insert(e.path().filename().string());
+  const std::string stem = std::to_string(r.id) + "-my_cat";
+  EXPECT_EQ(names, (std::set<std::string>{stem + ".pes", stem + ".jef"}));
+  EXPECT_EQ(slurp(stick / (stem + ".pes")), std::string(700, 'P'));
+  EXPECT_EQ(slurp(stick / (stem + ".jef")), std::string(130, 'J'));
 }
 
 TEST(FileDropDevice, AMissingFolderFailsTheJobWithItsReasonAndKeepsTheDesign) {

@@ -158,6 +158,14 @@ TEST(ThreadSheet, AConvertedDesignWritesItsSheetAndItsStitchPicture) {
     EXPECT_EQ(rows[i].stitches, report["threads"][i]["stitches"].get<int>()) << i;
     EXPECT_GT(rows[i].length_m, 0.0) << i;
   }
+  // Each colour names the threads design.pes and design.jef ask the machine for.
+  auto count = [&](const std::string& word) {
+    size_t n = 0;
+    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("Brother "), rows.size()) << text;
+  EXPECT_EQ(count("Janome "), rows.size()) << text;
 }
 
 }  // namespace
