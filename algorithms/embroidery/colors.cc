@@ -14,6 +14,12 @@ namespace atelier::embroidery {
 namespace {
 
 constexpr int kMaxSamples = 8000;
+constexpr long kPatchPixels = 250000;
+constexpr int kMaxReplacements = 3;
+// A thin line (too thin for a patch) this far from its cluster's centre, in more than 0.5 % of
+// the samples, asks for another cluster: more than half the distance from black to white, so
+// the blur between two colours never does.
+constexpr double kFarDe = 50;
 constexpr uint64_t kSeed = 0x5eed'e3b0'1dULL;
 
 void check(bool ok, const std::string& what) {
@@ -38,26 +44,31 @@ double kmeans_seeded(const cv::Mat& samples, int k, cv::Mat& labels, cv::Mat& ce
   return compactness;
 }
 
-// The automatic rule: every cluster of at least 1 % of the samples holds them within a mean
-// dE of delta_e (so two flat colours 23 apart are never one thread, whatever the others do),
-// and at most 0.5 % of all samples lie farther than far_de from their centre (a thin black
-// line on a white sheet barely moves any mean, yet it must get its own thread).
+// The automatic rule: every cluster of at least 1 % of the samples has half of them within
+// dE delta_e of its centre (so two flat colours 23 apart in similar amounts are never one
+// thread; an uneven mix leaves the minority far from the centre, and add_distinct_patches
+// separates it), and at most 0.5 % of all samples lie farther than far_de from their centre
+// (a thin black line on a white sheet barely moves any centre, yet it must get its own
+// thread). The median, not the mean: the anti-aliased edge of thin white letters is a large
+// share of their pixels but not a colour of its own.
 bool clusters_hold(const cv::Mat& samples, const cv::Mat& labels, const cv::Mat& centers, double delta_e,
                    double far_de) {
   const int K = centers.rows;
-  std::vector<double> sum(K, 0);
-  std::vector<int> count(K, 0);
+  std::vector<std::vector<float>> dist(K);
   int far = 0;
   const float far2 = static_cast<float>(far_de * far_de);
   for (int i = 0; i < samples.rows; ++i) {
     const int k = labels.at<int>(i);
     const float d2 = dist2(samples.at<cv::Vec3f>(i), centers.at<cv::Vec3f>(k));
-    sum[k] += std::sqrt(d2);
-    ++count[k];
+    dist[k].push_back(d2);
     far += d2 > far2;
   }
-  for (int k = 0; k < K; ++k)
-    if (count[k] * 100 >= samples.rows && sum[k] > delta_e * count[k]) return false;
+  for (std::vector<float>& d : dist) {
+    if (d.empty() || static_cast<long>(d.size()) * 100 < samples.rows) continue;
+    auto mid = d.begin() + static_cast<long>(d.size() / 2);
+    std::nth_element(d.begin(), mid, d.end());
+    if (*mid > delta_e * delta_e) return false;
+  }
   return far * 200 <= samples.rows;
 }
 
@@ -109,32 +120,6 @@ void colour_sums(const cv::Mat1i& index, const cv::Mat3f& lab, int K, std::vecto
   }
 }
 
-// At most `steps` Lloyd steps over every opaque pixel; centres that lose all their pixels are
-// dropped. Stops early when no centre moves by more than 0.05 dE.
-void lloyd(const cv::Mat3f& lab, const cv::Mat1b& opaque, std::vector<cv::Vec3f>& centre, int steps) {
-  cv::Mat1i index;
-  std::vector<cv::Vec3d> sum;
-  std::vector<long> count;
-  for (int it = 0; it < steps && !centre.empty(); ++it) {
-    assign(lab, opaque, centre, index);
-    colour_sums(index, lab, static_cast<int>(centre.size()), sum, count);
-    std::vector<cv::Vec3f> next;
-    float moved = 0;
-    for (size_t k = 0; k < centre.size(); ++k) {
-      if (count[k] == 0) {
-        moved = 1e9f;
-        continue;
-      }
-      const cv::Vec3f m(static_cast<float>(sum[k][0] / count[k]), static_cast<float>(sum[k][1] / count[k]),
-                        static_cast<float>(sum[k][2] / count[k]));
-      moved = std::max(moved, dist2(m, centre[k]));
-      next.push_back(m);
-    }
-    centre = std::move(next);
-    if (moved < 0.05f * 0.05f) break;
-  }
-}
-
 // Pixel counts per centre (for weighted merges).
 std::vector<long> centre_counts(const cv::Mat3f& lab, const cv::Mat1b& opaque, const std::vector<cv::Vec3f>& centre) {
   cv::Mat1i index;
@@ -167,49 +152,71 @@ float closest_pair(const std::vector<cv::Vec3f>& centre, size_t& bi, size_t& bj)
 
 // Distinct small colours (the second stage of the automatic rule). k-means on a subsample
 // sees a 3 mm^2 highlight as a handful of samples and folds it into its neighbour's thread;
-// here every pixel counts. A patch is a 8-connected piece of the pixels farther than
+// here every pixel counts. A patch is an 8-connected piece of the pixels farther than
 // distinct_de from every centre that survives a morphological opening (boundary pixels
-// between two colours, which take in-between values, form lines thinner than that) and has
-// at least min_area_px. The largest becomes a thread (its mean colour, then Lloyd steps), at
-// most 2 x max_colors rounds.
+// between two colours, which take in-between values, form lines thinner than that), has at
+// least min_area_px (the caller passes 2 x the smallest region) and is one colour: its pixels within a mean dE of delta_e of their mean
+// (a blurred edge or a shading ramp is not a thread; its ends belong to the threads beside
+// it). The largest such patch becomes a thread (its mean colour); at most 2 x max_colors
+// rounds. `lab` and `opaque` may be a reduced image, min_area_px scaled to it.
 void add_distinct_patches(const cv::Mat3f& lab, const cv::Mat1b& opaque, std::vector<cv::Vec3f>& centre,
-                          const ColorParams& p) {
+                          const ColorParams& p, int min_area_px) {
   const float distinct2 = static_cast<float>(p.distinct_delta_e * p.distinct_delta_e);
   // Opening radius: a disk of min_area_px survives it; boundary lines of 2-3 px do not.
-  const int r = std::clamp(static_cast<int>(std::sqrt(p.min_area_px / CV_PI) / 2), 1, 3);
+  const int r = std::clamp(static_cast<int>(std::sqrt(min_area_px / CV_PI) / 2), 1, 3);
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
+  int replaced = 0;
   for (int round = 0; round < 2 * p.max_colors; ++round) {
     cv::Mat1i index;
     cv::Mat1f d2;
     assign(lab, opaque, centre, index, &d2);
     cv::Mat1b far = (d2 > distinct2) & opaque;
-    if (cv::countNonZero(far) < p.min_area_px) return;
+    if (cv::countNonZero(far) < min_area_px) return;
     cv::morphologyEx(far, far, cv::MORPH_OPEN, kernel);
     cv::Mat1i cc;
     cv::Mat stats, centroids;
     const int n = cv::connectedComponentsWithStats(far, cc, stats, centroids, 8, CV_32S);
-    int best = -1, best_area = p.min_area_px - 1;
+    // Mean colour and spread of every patch large enough (two passes over its pixels).
+    std::vector<cv::Vec3d> sum(n, cv::Vec3d(0, 0, 0));
+    std::vector<double> spread(n, 0);
+    auto big = [&](int i) { return i > 0 && stats.at<int>(i, cv::CC_STAT_AREA) >= min_area_px; };
+    bool any = false;
+    for (int i = 1; i < n; ++i) any |= big(i);
+    if (!any) return;
+    for (int y = 0; y < cc.rows; ++y)
+      for (int x = 0; x < cc.cols; ++x)
+        if (const int i = cc(y, x); big(i)) sum[i] += cv::Vec3d(lab(y, x)[0], lab(y, x)[1], lab(y, x)[2]);
+    std::vector<cv::Vec3f> mean(n);
     for (int i = 1; i < n; ++i)
-      if (stats.at<int>(i, cv::CC_STAT_AREA) > best_area) best = i, best_area = stats.at<int>(i, cv::CC_STAT_AREA);
+      if (big(i)) mean[i] = cv::Vec3f(sum[i] * (1.0 / stats.at<int>(i, cv::CC_STAT_AREA)));
+    for (int y = 0; y < cc.rows; ++y)
+      for (int x = 0; x < cc.cols; ++x)
+        if (const int i = cc(y, x); big(i)) spread[i] += std::sqrt(dist2(lab(y, x), mean[i]));
+    int best = -1;
+    for (int i = 1; i < n; ++i) {
+      if (!big(i) || spread[i] > p.auto_delta_e * stats.at<int>(i, cv::CC_STAT_AREA)) continue;
+      float nearest = std::numeric_limits<float>::infinity();
+      for (const cv::Vec3f& c : centre) nearest = std::min(nearest, dist2(mean[i], c));
+      if (nearest <= distinct2) continue;  // a mix of colours already there: nothing new
+      if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA)) best = i;
+    }
     if (best < 0) return;
-    const cv::Rect box(stats.at<int>(best, cv::CC_STAT_LEFT), stats.at<int>(best, cv::CC_STAT_TOP),
-                       stats.at<int>(best, cv::CC_STAT_WIDTH), stats.at<int>(best, cv::CC_STAT_HEIGHT));
-    const cv::Scalar m = cv::mean(lab(box), cc(box) == best);
-    const cv::Vec3f colour(static_cast<float>(m[0]), static_cast<float>(m[1]), static_cast<float>(m[2]));
+    const cv::Vec3f colour = mean[best];
     float nearest = std::numeric_limits<float>::infinity();
     for (const cv::Vec3f& c : centre) nearest = std::min(nearest, dist2(colour, c));
-    if (nearest <= distinct2) return;  // a mix of colours already there: nothing new
     if (static_cast<int>(centre.size()) >= p.max_colors) {
-      // Two threads closer to each other than this colour is to any: they become one.
+      // Two threads closer to each other than this colour is to any: they become one. At most
+      // kMaxReplacements times: each merge may leave pixels far from the merged thread.
       size_t i = 0, j = 0;
-      if (closest_pair(centre, i, j) >= nearest) return;
+      if (replaced >= kMaxReplacements || closest_pair(centre, i, j) >= nearest) return;
+      ++replaced;
       std::vector<long> count = centre_counts(lab, opaque, centre);
       merge_pair(centre, count, i, j);
     }
     centre.push_back(colour);
-    const size_t before = centre.size();
-    lloyd(lab, opaque, centre, 3);
-    if (centre.size() < before) return;  // a thread lost its pixels: stop rather than cycle
+    // No Lloyd step here: it would pull a barely distinct patch colour back towards its big
+    // neighbours and the patch would come back next round. The threads become the means of
+    // their pixels at the end.
   }
 }
 
@@ -336,12 +343,27 @@ ColorExtraction extract_colors(const cv::Mat& image, const ColorParams& p) {
     // Automatic: the smallest k that holds the colours (at most max_colors k-means runs).
     for (int k = 1; k <= std::min(p.max_colors, samples.rows); ++k) {
       kmeans_seeded(samples, k, labels, centers);
-      if (clusters_hold(samples, labels, centers, p.auto_delta_e, 2 * p.distinct_delta_e)) break;
+      if (clusters_hold(samples, labels, centers, p.auto_delta_e, kFarDe)) break;
     }
     for (int i = 0; i < centers.rows; ++i) centre.push_back(centers.at<cv::Vec3f>(i));
-    merge_close(lab3, opaque, centre);
-    add_distinct_patches(lab3, opaque, centre, p);
-    merge_close(lab3, opaque, centre);
+    // The distinct patches on an image of at most kPatchPixels (a 3 mm^2 patch at 10 px/mm
+    // is still 75 px there): their search runs over every pixel, a few times per round.
+    const double shrink = std::min(1.0, std::sqrt(static_cast<double>(kPatchPixels) / static_cast<double>(total)));
+    cv::Mat3f small_lab = lab3;
+    cv::Mat1b small_opaque = opaque;
+    if (shrink < 1.0) {
+      const cv::Size size(std::max(1, static_cast<int>(W * shrink)), std::max(1, static_cast<int>(H * shrink)));
+      cv::resize(lab3, small_lab, size, 0, 0, cv::INTER_AREA);
+      cv::resize(opaque, small_opaque, size, 0, 0, cv::INTER_AREA);
+      small_opaque = small_opaque >= 128;
+    }
+    const double area_scale = static_cast<double>(small_lab.total()) / static_cast<double>(total);
+    // A thread of its own asks for twice the smallest region: a region of a colour that has
+    // one is at least that (2 mm^2 by default), and a speck of JPEG noise never is.
+    const int small_min_area = std::max(1, static_cast<int>(std::lround(2.0 * p.min_area_px * area_scale)));
+    merge_close(small_lab, small_opaque, centre);
+    add_distinct_patches(small_lab, small_opaque, centre, p, small_min_area);
+    merge_close(small_lab, small_opaque, centre);
   }
   const int K = static_cast<int>(centre.size());
 

@@ -33,10 +33,11 @@ struct ColorParams {
                              // are dropped from the palette
   int max_colors = 12;       // cap for automatic and for `colors`; 1..64
   double auto_delta_e = 8;   // automatic: the smallest k whose every cluster (of at least 1 %
-                             // of the samples) holds its samples within this mean dE of its
-                             // centre, with at most 0.5 % of all samples farther than
-                             // 2 x distinct_delta_e from theirs (thin lines); > 0
-  double distinct_delta_e = 15;  // automatic: a patch of at least min_area_px (and thicker than
+                             // of the samples) has half its samples within this dE of its
+                             // centre, with at most 0.5 % of all samples farther than 50 from
+                             // theirs (thin lines); a patch is one colour when its pixels lie
+                             // within this mean dE of their mean; > 0
+  double distinct_delta_e = 15;  // automatic: a patch of at least 2 x min_area_px (thicker than
                                  // a boundary line) farther than this from every thread gets a
                                  // thread of its own, replacing the two closest threads by one
                                  // at max_colors when those are closer than it; > 0
