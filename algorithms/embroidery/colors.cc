@@ -283,19 +283,8 @@ ColorExtraction extract_colors(const cv::Mat& image, const ColorParams& p) {
   // transparency the background.
   const bool any_transparent = opaque_count < total;
   cv::Mat filtered;
-  if (p.median_ksize > 1) {
-    cv::medianBlur(bgr, filtered, p.median_ksize);
-    // The colour under transparent pixels is arbitrary (often black): where the median's
-    // window reaches one, keep the pixel's own colour rather than a dark fringe.
-    if (any_transparent) {
-      cv::Mat1b near_transparent;
-      cv::dilate(~opaque, near_transparent,
-                 cv::getStructuringElement(cv::MORPH_RECT, {p.median_ksize, p.median_ksize}));
-      bgr.copyTo(filtered, near_transparent);
-    }
-  } else {
-    filtered = bgr;
-  }
+  if (p.median_ksize > 1) cv::medianBlur(bgr, filtered, p.median_ksize);
+  else filtered = bgr;
   cv::Mat f32;
   filtered.convertTo(f32, CV_32F, 1.0 / 255.0);
   ColorExtraction out;

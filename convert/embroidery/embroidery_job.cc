@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <vector>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -43,12 +42,9 @@ cv::Mat3b regions_image(const emb::Segmentation& seg) {
   return out;
 }
 
-// The input as make_design takes it: grey becomes BGR; an RGBA image with no transparent
-// pixel (alpha >= 128 everywhere) is the same picture as its RGB and loses its alpha, so every
-// stage sees the RGB image (and the white-sheet rule applies); in a partly transparent image
-// each transparent pixel takes the colour of the nearest opaque one, since the colour stored
-// under transparency is arbitrary (opencv-logo.png: black) and resizing and the median filter
-// would mix it into the design's edge as a dark fringe.
+// The input as make_design takes it: grey becomes BGR, and an RGBA image with no transparent
+// pixel (alpha >= 128 everywhere) is the same picture as its RGB, so it loses its alpha and
+// every stage sees the RGB image (the white-sheet rule included).
 cv::Mat design_input(const cv::Mat& image) {
   cv::Mat out;
   if (image.channels() == 1) {
@@ -58,35 +54,8 @@ cv::Mat design_input(const cv::Mat& image) {
   if (image.channels() != 4) return image;
   cv::Mat alpha;
   cv::extractChannel(image, alpha, 3);
-  const cv::Mat1b transparent = alpha < 128;
-  const int n_transparent = cv::countNonZero(transparent);
-  if (n_transparent == 0) {
-    cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
-    return out;
-  }
-  out = image.clone();
-  if (n_transparent == static_cast<int>(image.total())) return out;
-  // Nearest opaque pixel of every pixel: distanceTransform labels each zero (opaque) pixel
-  // and the pixels nearest to it; a table maps the label to that pixel's colour.
-  cv::Mat dist;
-  cv::Mat1i label;
-  cv::distanceTransform(transparent, dist, label, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-  std::vector<cv::Vec3b> colour(static_cast<size_t>(image.total() - n_transparent) + 1);
-  cv::Mat4b px = out;
-  for (int y = 0; y < px.rows; ++y)
-    for (int x = 0; x < px.cols; ++x) {
-      const cv::Vec4b& p = px(y, x);
-      const int l = label(y, x);
-      if (!transparent(y, x) && l >= 0 && static_cast<size_t>(l) < colour.size()) colour[l] = {p[0], p[1], p[2]};
-    }
-  for (int y = 0; y < px.rows; ++y)
-    for (int x = 0; x < px.cols; ++x) {
-      const int l = label(y, x);
-      if (transparent(y, x) && l >= 0 && static_cast<size_t>(l) < colour.size()) {
-        cv::Vec4b& p = px(y, x);
-        p[0] = colour[l][0], p[1] = colour[l][1], p[2] = colour[l][2];
-      }
-    }
+  if (cv::countNonZero(alpha < 128) > 0) return image;
+  cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
   return out;
 }
 

@@ -197,5 +197,32 @@ TEST_F(ConvertEmbroideryTest, AnOpaqueRgbaPngIsSewnLikeTheSameRgbPngWithoutItsWh
   EXPECT_EQ(regions.at<cv::Vec3b>(2, 2), cv::Vec3b(255, 255, 255)) << "the corner is not sewn";
 }
 
+// ---- issue 21 point 4 (colours helper): the issue's four flat colours are four threads ----
+TEST_F(ConvertEmbroideryTest, TheIssuesFourFlatColoursAreSewnInFourThreadsOfTheirColours) {
+  const int rgb[4][3] = {{120, 152, 120}, {216, 152, 120}, {120, 184, 184}, {120, 120, 168}};
+  cv::Mat3b img(300, 300);
+  for (int q = 0; q < 4; ++q)
+    img(cv::Rect((q % 2) * 150, (q / 2) * 150, 150, 150)).setTo(cv::Vec3b(rgb[q][2], rgb[q][1], rgb[q][0]));
+  const fs::path png = out_.string() + "-four.png";
+  cv::imwrite(png.string(), img);
+  const nlohmann::json report = run(png, "width_mm = 60\n").report;
+  fs::remove(png);
+  auto lab = [](int r, int g, int b) {
+    cv::Mat3f one(1, 1, cv::Vec3f(b / 255.f, g / 255.f, r / 255.f)), out;
+    cv::cvtColor(one, out, cv::COLOR_BGR2Lab);
+    return out(0, 0);
+  };
+  ASSERT_EQ(report["threads"].size(), 4u) << report["threads"].dump();
+  for (int q = 0; q < 4; ++q) {
+    double nearest = 1e9;
+    for (const auto& t : report["threads"]) {
+      const unsigned long c = std::stoul(t["rgb"].get<std::string>().substr(1), nullptr, 16);
+      nearest = std::min(nearest, cv::norm(lab(int(c >> 16), int((c >> 8) & 0xff), int(c & 0xff)) -
+                                           lab(rgb[q][0], rgb[q][1], rgb[q][2])));
+    }
+    EXPECT_LT(nearest, 5.0) << "no thread near colour " << q;
+  }
+}
+
 }  // namespace
 }  // namespace atelier
