@@ -14,7 +14,7 @@ namespace atelier::embroidery {
 namespace {
 
 constexpr int kMaxSamples = 8000;
-constexpr long kPatchPixels = 250000;
+constexpr long kPatchPixels = 160000;
 constexpr int kMaxReplacements = 3;
 // A thin line (too thin for a patch) this far from its cluster's centre, in more than 0.5 % of
 // the samples, asks for another cluster: more than half the distance from black to white, so
@@ -330,13 +330,16 @@ ColorExtraction extract_colors(const cv::Mat& image, const ColorParams& p) {
     for (int i = 0; i < centers.rows; ++i) centre.push_back(centers.at<cv::Vec3f>(i));
   } else {
     // Automatic: the smallest k that holds the colours (at most max_colors k-means runs).
+    // Every k in turn, not a bisection: holding is not monotone in k (LinuxLogo holds at 2,
+    // not at 3, where a cluster of anti-aliased edge pixels appears).
     for (int k = 1; k <= std::min(p.max_colors, samples.rows); ++k) {
       kmeans_seeded(samples, k, labels, centers);
       if (clusters_hold(samples, labels, centers, p.auto_delta_e, kFarDe)) break;
     }
     for (int i = 0; i < centers.rows; ++i) centre.push_back(centers.at<cv::Vec3f>(i));
     // The distinct patches on an image of at most kPatchPixels (a 3 mm^2 patch at 10 px/mm
-    // is still 75 px there): their search runs over every pixel, a few times per round.
+    // in a 100 mm design is still 48 px there): their search runs over every pixel, a few
+    // times per round.
     const double shrink = std::min(1.0, std::sqrt(static_cast<double>(kPatchPixels) / static_cast<double>(total)));
     cv::Mat3f small_lab = lab3;
     cv::Mat1b small_opaque = opaque;
