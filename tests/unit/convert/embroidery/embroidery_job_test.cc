@@ -190,9 +190,9 @@ TEST_F(ConvertEmbroideryTest, AnOpaqueRgbaPngIsSewnLikeTheSameRgbPngWithoutItsWh
     const unsigned long c = std::stoul(t["rgb"].get<std::string>().substr(1), nullptr, 16);
     EXPECT_LT(std::min({c >> 16, (c >> 8) & 0xff, c & 0xff}), 200u) << t.dump() << " is a white thread";
   }
-  // The sheet around the shapes is fabric: the design is the shapes' size (the blue square's
-  // right edge to the disk's left: 280 of 400 px, 56 mm), not the whole 80 mm.
-  EXPECT_LT(b["extent_mm"]["width"].get<double>(), 62.0);
+  // The sheet around the shapes is fabric: the design is the shapes' size (the disk's left
+  // edge to the blue square's right: 320 of 400 px, 64 mm), not the whole 80 mm.
+  EXPECT_LT(b["extent_mm"]["width"].get<double>(), 66.0);
   ASSERT_FALSE(regions.empty());
   EXPECT_EQ(regions.at<cv::Vec3b>(2, 2), cv::Vec3b(255, 255, 255)) << "the corner is not sewn";
 }
