@@ -120,6 +120,31 @@ BENCHMARK(BM_EmbroideryStage)
     ->UseRealTime()
     ->Iterations(3);
 
+// Colour extraction alone (issue 21 point 4: k-means, distinct patches over every pixel, the
+// thread means) on the working image BM_EmbroideryDefault gets from a 1600 px image.
+void BM_EmbroideryColors(benchmark::State& state) {
+  const cv::Mat img = image(static_cast<int>(state.range(2)), static_cast<int>(state.range(0)),
+                            static_cast<int>(state.range(1)));
+  emb::ColorParams cp;
+  cp.min_area_px = 100;  // min_region_mm2 = 1 at 10 px/mm
+  size_t colors = 0;
+  for (auto _ : state) {
+    const emb::ColorExtraction ce = emb::extract_colors(img, cp);
+    colors = ce.palette.bgr.size();
+    benchmark::DoNotOptimize(ce.color_index.data);
+  }
+  state.counters["colors"] = static_cast<double>(colors);
+  state.SetLabel(std::to_string(img.cols) + "x" + std::to_string(img.rows) + " " + kImages[state.range(2)]);
+}
+
+BENCHMARK(BM_EmbroideryColors)
+    ->Args({1000, 1000, 0})
+    ->Args({1000, 1000, 1})
+    ->Args({1000, 1000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+
 BENCHMARK(BM_EmbroideryDefault)
     ->Args({1600, 1600, 0})
     ->Args({1600, 1600, 1})

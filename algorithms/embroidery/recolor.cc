@@ -38,13 +38,18 @@ cv::Mat3b recolor_tile(const cv::Mat3f& tile_lab, const cv::Mat1b& alpha, const 
   if (ml - lo > 1e-3f) k = std::min(k, tl / (ml - lo));
   if (hi - ml > 1e-3f) k = std::min(k, (100.f - tl) / (hi - ml));
   k = std::max(k, 0.25f);
+  // A target lighter than max_L is capped (the overexposure fix): its sheen must not carry it
+  // back above the cap, so above the mean the deviations reach at most 3 over max_L (a narrow
+  // satin column shows mostly its crest).
+  float k_hi = k;
+  if (target_lab[0] > max_L && hi - ml > 1e-3f) k_hi = std::min(k, 3.f / (hi - ml));
   cv::Mat3f out(tile_lab.size());
   double sum = 0;
   int n = 0;
   for (int y = 0; y < tile_lab.rows; ++y)
     for (int x = 0; x < tile_lab.cols; ++x) {
       const cv::Vec3f p = tile_lab(y, x);
-      const float l = std::clamp(tl + (p[0] - ml) * k, 0.f, 100.f);
+      const float l = std::clamp(tl + (p[0] - ml) * (p[0] > ml ? k_hi : k), 0.f, 100.f);
       out(y, x) = cv::Vec3f(l, p[1] + da, p[2] + db);
       if (alpha(y, x) >= 128) {
         sum += l;

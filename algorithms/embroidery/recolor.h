@@ -6,7 +6,8 @@
 // transfer through (0,0), (mean, target), (100,100) would, with one palette entry and a black
 // target, stretch the highlights far above black (mean L 11 for black thread). a and b are
 // shifted by the difference of the means. The target L is capped at max_L, because even
-// white thread looks grey (the paper's overexposure fix).
+// white thread looks grey (the paper's overexposure fix); a capped target's highlights reach
+// at most 3 over max_L, so a light colour's sheen does not carry it back above the cap.
 // Pure; thread-safe.
 #pragma once
 

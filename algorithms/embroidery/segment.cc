@@ -79,6 +79,8 @@ Segmentation segment(const cv::Mat& image, const ColorParams& cp, const LabelPar
   Components comp = color_components(ce.color_index, static_cast<int>(ce.palette.bgr.size()), cp.min_area_px);
   const std::vector<int> remap = drop_unused_colors(ce.palette, ce.color_index);
   for (int& c : comp.color) c = remap[c];
+  // Specks took their neighbour's colour: each thread is again the mean of what it sews.
+  set_palette_to_means(ce.palette, ce.color_index, ce.lab);
   seg.palette = std::move(ce.palette);
   seg.color_index = ce.color_index;
   seg.component = comp.id;

@@ -49,6 +49,23 @@ cv::Mat3b regions_image(const emb::Segmentation& seg) {
   return out;
 }
 
+// The input as make_design takes it: grey becomes BGR, and an RGBA image with no transparent
+// pixel (alpha >= 128 everywhere) is the same picture as its RGB, so it loses its alpha and
+// every stage sees the RGB image (the white-sheet rule included).
+cv::Mat design_input(const cv::Mat& image) {
+  cv::Mat out;
+  if (image.channels() == 1) {
+    cv::cvtColor(image, out, cv::COLOR_GRAY2BGR);
+    return out;
+  }
+  if (image.channels() != 4) return image;
+  cv::Mat alpha;
+  cv::extractChannel(image, alpha, 3);
+  if (cv::countNonZero(alpha < 128) > 0) return image;
+  cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
+  return out;
+}
+
 emb::ReferenceTexture load_texture(const PathAccess& access, const fs::path& image_file,
                                    const fs::path& normal_file, double dpi, const ImageLimits& limits) {
   const std::string name = access.prefix(image_file);
@@ -140,8 +157,7 @@ ConvertResult convert_embroidery(const ConvertRequest& req) {
   const cv::Mat image = load_image(req.input, req.limits);
   if (image.depth() != CV_8U || image.channels() == 2)
     throw ConvertError(name + ": expected an 8-bit grey, colour or colour+alpha image");
-  cv::Mat input = image;
-  if (image.channels() == 1) cv::cvtColor(image, input, cv::COLOR_GRAY2BGR);
+  const cv::Mat input = design_input(image);
   LoadedTextures textures{emb::procedural_textures(), {"procedural", "procedural", "procedural"}};
   if (params.textures)
     textures = load_textures(req.paths.access("textures"), *params.textures, params.texture_dpi, req.limits);

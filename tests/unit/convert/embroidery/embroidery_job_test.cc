@@ -167,5 +167,64 @@ TEST_F(ConvertEmbroideryTest, UserTexturesReplaceTheProceduralOnesAndBadOnesAreN
   fs::remove_all(tex);
 }
 
+
+// ---- issue 21 point 3 (colours helper): an opaque RGBA PNG is sewn like the same RGB PNG ----
+TEST_F(ConvertEmbroideryTest, AnOpaqueRgbaPngIsSewnLikeTheSameRgbPngWithoutItsWhiteSheet) {
+  cv::Mat3b img(300, 400, cv::Vec3b(255, 255, 255));
+  cv::circle(img, {120, 150}, 80, cv::Vec3b(0, 0, 0), cv::FILLED);
+  cv::rectangle(img, cv::Rect(240, 90, 120, 120), cv::Vec3b(200, 60, 30), cv::FILLED);
+  cv::Mat4b rgba;
+  cv::cvtColor(img, rgba, cv::COLOR_BGR2BGRA);  // alpha 255 everywhere
+  const fs::path rgb_png = out_.string() + "-rgb.png", rgba_png = out_.string() + "-rgba.png";
+  cv::imwrite(rgb_png.string(), img);
+  cv::imwrite(rgba_png.string(), rgba);
+  ASSERT_EQ(cv::imread(rgba_png.string(), cv::IMREAD_UNCHANGED).channels(), 4);
+  const nlohmann::json a = run(rgb_png, "width_mm = 80\n").report;
+  const nlohmann::json b = run(rgba_png, "width_mm = 80\n").report;
+  const cv::Mat regions = cv::imread((out_ / "regions.png").string());
+  fs::remove(rgb_png);
+  fs::remove(rgba_png);
+  const double sa = a["stitches"].get<double>(), sb = b["stitches"].get<double>();
+  EXPECT_NEAR(sb, sa, 0.01 * sa) << "the same design, the same stitches";
+  EXPECT_EQ(b["palette"], a["palette"]);
+  EXPECT_EQ(b["palette"].size(), 2u) << b["palette"].dump() << ": black and blue, no white thread";
+  for (const auto& t : b["threads"]) {
+    const unsigned long c = std::stoul(t["rgb"].get<std::string>().substr(1), nullptr, 16);
+    EXPECT_LT(std::min({c >> 16, (c >> 8) & 0xff, c & 0xff}), 200u) << t.dump() << " is a white thread";
+  }
+  // The sheet around the shapes is fabric: the design is the shapes' size (the disk's left
+  // edge to the blue square's right: 320 of 400 px, 64 mm), not the whole 80 mm.
+  EXPECT_LT(b["extent_mm"]["width"].get<double>(), 66.0);
+  ASSERT_FALSE(regions.empty());
+  EXPECT_EQ(regions.at<cv::Vec3b>(2, 2), cv::Vec3b(255, 255, 255)) << "the corner is not sewn";
+}
+
+// ---- issue 21 point 4 (colours helper): the issue's four flat colours are four threads ----
+TEST_F(ConvertEmbroideryTest, TheIssuesFourFlatColoursAreSewnInFourThreadsOfTheirColours) {
+  const int rgb[4][3] = {{120, 152, 120}, {216, 152, 120}, {120, 184, 184}, {120, 120, 168}};
+  cv::Mat3b img(300, 300);
+  for (int q = 0; q < 4; ++q)
+    img(cv::Rect((q % 2) * 150, (q / 2) * 150, 150, 150)).setTo(cv::Vec3b(rgb[q][2], rgb[q][1], rgb[q][0]));
+  const fs::path png = out_.string() + "-four.png";
+  cv::imwrite(png.string(), img);
+  const nlohmann::json report = run(png, "width_mm = 60\n").report;
+  fs::remove(png);
+  auto lab = [](int r, int g, int b) {
+    cv::Mat3f one(1, 1, cv::Vec3f(b / 255.f, g / 255.f, r / 255.f)), out;
+    cv::cvtColor(one, out, cv::COLOR_BGR2Lab);
+    return out(0, 0);
+  };
+  ASSERT_EQ(report["threads"].size(), 4u) << report["threads"].dump();
+  for (int q = 0; q < 4; ++q) {
+    double nearest = 1e9;
+    for (const auto& t : report["threads"]) {
+      const unsigned long c = std::stoul(t["rgb"].get<std::string>().substr(1), nullptr, 16);
+      nearest = std::min(nearest, cv::norm(lab(int(c >> 16), int((c >> 8) & 0xff), int(c & 0xff)) -
+                                           lab(rgb[q][0], rgb[q][1], rgb[q][2])));
+    }
+    EXPECT_LT(nearest, 5.0) << "no thread near colour " << q;
+  }
+}
+
 }  // namespace
 }  // namespace atelier
