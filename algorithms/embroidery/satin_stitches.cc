@@ -251,6 +251,43 @@ double cover_bare(const cv::Mat1b& mask, double angle, const StitchParams& param
     fill_into(part, angle, params, sink);
   }
   if (filled) bare = bare_of();
+  // Still under the margin: what is left are specks too small to fill (a fill row needs room),
+  // e.g. along a thin stroke's ragged border. Visit each, nearest first, with travel inside the
+  // region: its running stitch lays thread over the speck. Bounded: at most kMaxSpecks visits.
+  if (1.0 - static_cast<double>(cv::countNonZero(bare)) / area < 0.99) {
+    const int m = cv::connectedComponentsWithStats(bare, labels, stats, centroids, 8, CV_32S);
+    constexpr int kMaxSpecks = 400;
+    std::vector<cv::Point2f> specks;
+    for (int c = 1; c < m && static_cast<int>(specks.size()) < kMaxSpecks; ++c) {
+      // The speck's pixel nearest its centroid (a ring's centroid may lie outside it).
+      const cv::Point2f centre(static_cast<float>(centroids(c, 0)), static_cast<float>(centroids(c, 1)));
+      cv::Point2f best(-1, -1);
+      double best_d = 1e18;
+      const int x0 = stats(c, cv::CC_STAT_LEFT), y0 = stats(c, cv::CC_STAT_TOP);
+      for (int y = y0; y < y0 + stats(c, cv::CC_STAT_HEIGHT); ++y)
+        for (int x = x0; x < x0 + stats(c, cv::CC_STAT_WIDTH); ++x) {
+          if (labels(y, x) != c) continue;
+          const double d = (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y);
+          if (d < best_d) best_d = d, best = cv::Point2f(static_cast<float>(x), static_cast<float>(y));
+        }
+      specks.push_back(best);
+    }
+    cv::Point2f at = sink.empty() ? (specks.empty() ? cv::Point2f() : specks.front()) : sink.last();
+    std::vector<bool> visited(specks.size(), false);
+    for (size_t k = 0; k < specks.size(); ++k) {  // greedy nearest-first: O(specks^2), <= 160k
+      size_t next = 0;
+      double next_d = 1e18;
+      for (size_t i = 0; i < specks.size(); ++i) {
+        if (visited[i]) continue;
+        const double d = cv::norm(specks[i] - at);
+        if (d < next_d) next_d = d, next = i;
+      }
+      visited[next] = true;
+      sink.travel_to(specks[next]);
+      at = specks[next];
+    }
+    if (!specks.empty()) bare = bare_of();
+  }
   return 1.0 - static_cast<double>(cv::countNonZero(bare)) / area;
 }
 

@@ -43,7 +43,8 @@ TEST_P(EmbroideryCoverageTest, EveryRegionOver4mm2IsCovered) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RealImages, EmbroideryCoverageTest,
-                         ::testing::Values("fruits.jpg", "HappyFish.jpg", "LinuxLogo.jpg"));
+                         ::testing::Values("fruits.jpg", "HappyFish.jpg", "LinuxLogo.jpg", "butterfly.jpg",
+                                           "starry_night.jpg"));
 
 TEST(EmbroideryCoverageReport, ReportGivesCoveragePerStyle) {
   const fs::path out = fs::temp_directory_path() / ("atelier-emb-coverage-" + std::to_string(::getpid()));
