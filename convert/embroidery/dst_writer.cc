@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "convert/embroidery/stitch_label.h"
+
 namespace atelier::embroidery {
 namespace {
 
@@ -72,17 +74,6 @@ class Body {
     ++records;
   }
 };
-
-std::string label16(const std::string& name) {
-  std::string out;
-  for (unsigned char c : name) {
-    if (out.size() == 16) break;
-    if (c >= 0x80 && c < 0xC0) continue;  // UTF-8 continuation: its lead byte already gave '_'
-    out += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '_';
-  }
-  out.resize(16, ' ');
-  return out;
-}
 
 void field(std::string& h, const char* fmt, long v, long max) {
   if (std::labs(v) > max)

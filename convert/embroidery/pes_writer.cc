@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "convert/embroidery/stitch_label.h"
 #include "convert/embroidery/thread_palettes.h"
 
 namespace atelier::embroidery {
@@ -54,17 +55,6 @@ Extent extent_of(const StitchPlan& plan) {
   for (const StitchPoint& p : plan.points)
     if (is_positioned(p.kind)) e.add(pec_units(p));
   return e;
-}
-
-std::string label16(const std::string& name) {
-  std::string out;
-  for (unsigned char c : name) {
-    if (out.size() == 16) break;
-    if (c >= 0x80 && c < 0xC0) continue;  // UTF-8 continuation: its lead byte already gave '_'
-    out += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '_';
-  }
-  out.resize(16, ' ');
-  return out;
 }
 
 // ---- PEC stitches ------------------------------------------------------------------------
