@@ -182,7 +182,13 @@ TEST(LacePreview, Sk2pLeansLeft) {
   const PreviewLayout l = layout_preview(c, 10, o);
   const PlacedStitch& s = l.courses[2][4];
   ASSERT_EQ(s.symbol, Symbol::sk2p);
-  EXPECT_LT(lean(img, l, s, o), -0.08 * o.stitch_px);
+  // The same chart with the centred s2kp there: sk2p's top sits clearly further left.
+  Chart centred = c;
+  centred.rows[1][4] = Symbol::s2kp;
+  const double upright = lean(render_preview(centred, 10, o), l, s, o);
+  const double left = lean(img, l, s, o);
+  EXPECT_LT(left, -0.03 * o.stitch_px) << left;
+  EXPECT_LT(left, upright - 0.03 * o.stitch_px) << left << " vs s2kp " << upright;
 }
 
 // The centred double decrease is s2kp (the evolved charts' double decrease).
