@@ -86,7 +86,9 @@ Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng, bool carr
       const int left = width - static_cast<int>(row.size());
       const int x = d(rng);
       if (x < 12 && left >= 3) {
-        row.insert(row.end(), {Symbol::yo, Symbol::s2kp, Symbol::yo});
+        // The centred s2kp needs its centre stitch on top, but on a lace carriage the stitch
+        // already on the needle stays at the bottom: the carriage makes the left-leaning sk2p.
+        row.insert(row.end(), {Symbol::yo, carriage_pairings ? Symbol::sk2p : Symbol::s2kp, Symbol::yo});
       } else if (x < 20 && left >= 2) {
         // A lace carriage lays the moved stitch on top, so it can make "k2tog, yo" and
         // "yo, ssk" but not these two (transfers.h); the same draw then gives the mirror.
