@@ -11,7 +11,7 @@ namespace atelier::lace {
 namespace {
 
 // consumes() as a table: evaluate() runs for every child of every generation.
-constexpr int kConsumes[] = {1, 0, 2, 2, 3};  // k, yo, k2tog, ssk, sk2p
+constexpr int kConsumes[] = {1, 0, 2, 2, 3, 3};  // k, yo, k2tog, ssk, sk2p, s2kp
 int over(Symbol s) { return kConsumes[static_cast<int>(s)]; }
 
 Symbol mirrored(Symbol s) {

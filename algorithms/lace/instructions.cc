@@ -11,7 +11,7 @@
 namespace atelier::lace {
 namespace {
 
-constexpr const char* kStitchList = "k, yo, k2tog, ssk, sk2p";
+constexpr const char* kStitchList = "k, yo, k2tog, ssk, sk2p, s2kp";
 
 // The flat writing of row[a, b): maximal runs of k as "kN", other symbols by name.
 std::vector<std::string> flat_items(const Row& row, std::size_t a, std::size_t b) {
@@ -150,6 +150,24 @@ Row parse_items(const std::string& text, int line) {
   return row;
 }
 
+// "Row 2 and all WS rows: purl." and, when right-side rows have a double yarn-over (two side
+// by side, also across the repeat's edge), how to work it on the wrong side: a double
+// yarn-over is one wrapped loop twice round the needle, purled once and knitted once so it
+// makes two stitches over the big hole.
+std::string ws_rows_line(const Chart& chart) {
+  std::vector<int> ws;  // WS row numbers after a RS row with a double yarn-over
+  for (std::size_t r = 0; r < chart.rows.size(); ++r)
+    if (max_adjacent_yarn_overs(chart.rows[r], true) >= 2) ws.push_back(2 * static_cast<int>(r) + 2);
+  if (ws.empty()) return "Row 2 and all WS rows: purl.\n";
+  std::string rows;
+  for (std::size_t i = 0; i < ws.size(); ++i) {
+    rows += i == 0 ? "" : i + 1 == ws.size() ? " and " : ", ";
+    rows += std::to_string(ws[i]);
+  }
+  return "Row 2 and all WS rows: purl, except: purl 1, knit 1 into each double yarn-over "
+         "(yo twice) of the row below (row" + std::string(ws.size() > 1 ? "s " : " ") + rows + ").\n";
+}
+
 }  // namespace
 
 std::string write_row(const Row& row) {
@@ -211,7 +229,7 @@ std::string write_instructions(const Chart& chart, int cast_on, const Instructio
     const Row& row = chart.rows[static_cast<std::size_t>(r)];
     out += "Row " + std::to_string(2 * r + 1) + " (RS): " + write_row(row) + ". (" +
            std::to_string(produced(row)) + " sts)\n";
-    if (r == 0) out += "Row 2 and all WS rows: purl.\n";
+    if (r == 0) out += ws_rows_line(chart);
   }
   const int last = produced(chart.rows.back());
   if (last == cast_on) {
@@ -223,7 +241,9 @@ std::string write_instructions(const Chart& chart, int cast_on, const Instructio
   out +=
       "Abbreviations: k knit; yo yarn over; k2tog knit 2 together (right-slanting decrease); ssk\n"
       "slip, slip, knit (left-slanting decrease); sk2p slip 1, knit 2 together, pass slipped stitch\n"
-      "over (double decrease); kN knit N stitches; [ ] N times: work the stitches in brackets N\n"
+      "over (left-slanting double decrease); s2kp slip 2 together knitwise, knit 1, pass the 2\n"
+      "slipped stitches over (centred double decrease); yo, yo double yarn-over: on the WS row after\n"
+      "it purl 1, knit 1 into it; kN knit N stitches; [ ] N times: work the stitches in brackets N\n"
       "times; (N sts): stitches on the needle after the row; RS right side; WS wrong side.\n";
   return out;
 }

@@ -9,14 +9,16 @@
 //   Cast on a multiple of N stitches.
 //   <blank>
 //   Row 1 (RS): <items>. (W sts)             one line per chart row r: "Row 2r+1 (RS)"
-//   Row 2 and all WS rows: purl.             (after row 1)
+//   Row 2 and all WS rows: purl.             (after row 1; when RS rows have a double yarn-over:
+//                                            "..., except: purl 1, knit 1 into each double
+//                                            yarn-over (yo twice) of the row below (rows 2 and 6).")
 //   Row 3 (RS): ...
 //   Repeat rows 1-2R.                        (or, when the last row is not as wide as the
 //                                            cast-on, "Work rows 1-2R once (...)")
 //   <blank>
 //   Abbreviations: ...                       (the rest of that paragraph is skipped on reading)
 // Items are in knitting order (Chart::rows[r][0] first), separated by ", ": "kN" for a run of N
-// plain stitches, the symbol names yo, k2tog, ssk, sk2p, and "[item, item, ...] N times" for a
+// plain stitches, the symbol names yo, k2tog, ssk, sk2p, s2kp, and "[item, item, ...] N times" for a
 // group of >= 2 items repeated N >= 2 times consecutively (never nested). Among all such
 // writings of a row the shortest text is chosen. "(W sts)" is the stitches the row makes.
 // Widths in stitches. Pure functions, thread-safe.

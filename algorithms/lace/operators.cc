@@ -11,7 +11,7 @@ namespace atelier::lace {
 namespace {
 
 // consumes() as a table: this runs for every node of every child, every generation.
-constexpr int kConsumes[] = {1, 0, 2, 2, 3};  // k, yo, k2tog, ssk, sk2p
+constexpr int kConsumes[] = {1, 0, 2, 2, 3, 3};  // k, yo, k2tog, ssk, sk2p, s2kp
 int children_of(const Node& n) { return n.cast_on ? 0 : kConsumes[static_cast<int>(n.symbol)]; }
 
 std::size_t pick(std::size_t n, std::mt19937_64& rng) {
@@ -102,8 +102,6 @@ Tree splice(const Tree& dst, std::uint32_t at, const Tree& src, std::uint32_t fr
   }
   return out;
 }
-
-bool is_decrease(Symbol s) { return s == Symbol::k2tog || s == Symbol::ssk || s == Symbol::sk2p; }
 
 bool has_cast_on(const Tree& tree) {
   for (const Node& n : tree.nodes) {

@@ -157,18 +157,17 @@ cv::Mat render_preview(const Chart& chart, int cast_on, const PreviewOptions& o)
         if (j + 1 < course.size()) gap += std::abs(course[j + 1].centre.x - s.centre.x), ++n;
         const double sw = std::clamp(n > 0 ? gap / n : w, 0.75 * w, 1.6 * w);
         const cv::Point2d at(s.centre.x, s.centre.y - 0.15 * layout.row_px);
-        const double lean = s.symbol == Symbol::k2tog ? kLean * sw / h   // top to the right
-                            : s.symbol == Symbol::ssk ? -kLean * sw / h  // top to the left
-                                                      : 0.0;
+        // The top moves right for a right-leaning stitch (k2tog), left for ssk and sk2p.
+        const double lean = lace::lean(s.symbol) * kLean * sw / h;
         knit_v(img, at, sw, h, lean, o.yarn);
         if (s.symbol != Symbol::k) overlays.push_back({at, sw, s.symbol});
       }
     }
     for (const Overlay& v : overlays) {
-      if (v.symbol == Symbol::sk2p) {  // the centre stitch standing up over the other two
+      if (lace::lean(v.symbol) == 0) {  // s2kp: the centre stitch standing up over the other two
         shaded_loop(img, 0, -0.05 * h, 0.6 * h, 0.15 * v.sw, 0.0, 0.0, v.at, o.yarn);
       } else {  // the stitch lying on top, slanting the way the decrease leans
-        const double slant = std::atan2(kLean * v.sw, h) * (v.symbol == Symbol::k2tog ? 1 : -1);
+        const double slant = std::atan2(kLean * v.sw, h) * lace::lean(v.symbol);
         shaded_loop(img, 0, -0.05 * h, 0.62 * h, 0.2 * v.sw, slant, 0.0, v.at, o.yarn);
       }
     }

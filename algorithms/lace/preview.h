@@ -1,6 +1,7 @@
 // A picture of the knitted lace fabric (issue 7, preview.png): the chart tiled, seen from the
 // right side, each stitch drawn as a knit "V" on a dark cloth, yarn-overs as open holes,
-// k2tog leaning right, ssk leaning left, sk2p centred with a vertical spine.
+// each decrease leaning its true way (symbols.h lean()): k2tog right, ssk and sk2p left, s2kp
+// centred with a vertical spine (the centre stitch standing on top).
 //
 // Layout (the same conventions as chart.h): knitting-order index 0 of a row is at the RIGHT of
 // the picture (the knitter works right to left on the right side); chart row 0 is at the

@@ -19,7 +19,7 @@ Symbol draw_symbol(std::mt19937_64& rng, bool allow_decreases) {
   if (x < 83) return Symbol::yo;
   if (x < 90) return Symbol::k2tog;
   if (x < 97) return Symbol::ssk;
-  return Symbol::sk2p;
+  return Symbol::s2kp;  // the centred double decrease (issue 22)
 }
 
 constexpr int kMaxLevelWidth = 6;
@@ -86,7 +86,9 @@ Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng, bool carr
       const int left = width - static_cast<int>(row.size());
       const int x = d(rng);
       if (x < 12 && left >= 3) {
-        row.insert(row.end(), {Symbol::yo, Symbol::sk2p, Symbol::yo});
+        // The centred s2kp needs its centre stitch on top, but on a lace carriage the stitch
+        // already on the needle stays at the bottom: the carriage makes the left-leaning sk2p.
+        row.insert(row.end(), {Symbol::yo, carriage_pairings ? Symbol::sk2p : Symbol::s2kp, Symbol::yo});
       } else if (x < 20 && left >= 2) {
         // A lace carriage lays the moved stitch on top, so it can make "k2tog, yo" and
         // "yo, ssk" but not these two (transfers.h); the same draw then gives the mirror.

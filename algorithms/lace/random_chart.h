@@ -30,8 +30,9 @@ Forest random_forest(int width, int rows, std::mt19937_64& rng);
 // A chart of `rows` rows, every row `width` stitches wide and worked over `width` (so it is
 // knittable from `width`, balanced, width_ok(chart, 0)), with at most two yarn-overs side by
 // side even when the row is repeated. Rows are strung from units: k; yo + k2tog, k2tog + yo,
-// yo + ssk, ssk + yo; yo + sk2p + yo. With `carriage_pairings`, only the pairings a lace
-// carriage can make (k2tog + yo, yo + ssk; see transfers.h). width >= 1, rows >= 1.
+// yo + ssk, ssk + yo; yo + s2kp + yo. With `carriage_pairings`, only the pairings a lace
+// carriage can make (k2tog + yo, yo + ssk, yo + sk2p + yo: the carriage cannot put s2kp's centre
+// stitch on top; see transfers.h). width >= 1, rows >= 1.
 Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng, bool carriage_pairings = false);
 
 }  // namespace atelier::lace

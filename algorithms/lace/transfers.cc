@@ -22,7 +22,8 @@ RowTransfers row_transfers(const Row& row) {
       case Symbol::k: layers = {0}; break;
       case Symbol::k2tog: layers = {0, 1}; break;
       case Symbol::ssk: layers = {1, 0}; break;
-      case Symbol::sk2p: layers = {2, 0, 1}; break;
+      case Symbol::sk2p: layers = {2, 0, 1}; break;  // s on top: leans left
+      case Symbol::s2kp: layers = {1, 2, 0}; break;  // s+2 bottom, s, the centre s+1 on top
     }
     auto& stack = t.stack[static_cast<size_t>(o)];
     stack.assign(layers.size(), 0);

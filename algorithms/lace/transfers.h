@@ -8,7 +8,10 @@
 // and lies at layer[s] of that stitch's stack, 0 = bottom:
 //   k: [s]   k2tog (s, s+1): s bottom, s+1 on top (leans right on the right side)
 //   ssk (s, s+1): s+1 bottom, s on top (leans left)
-//   sk2p (s, s+1, s+2): s+1 bottom, s+2 on it, s on top (slip 1, k2tog, pass slipped over)
+//   sk2p (s, s+1, s+2): s+1 bottom, s+2 on it, s on top (slip 1, k2tog, pass slipped over:
+//     leans left)
+//   s2kp (s, s+1, s+2): s+2 bottom, s on it, s+1 on top (slip 2 together, k1, pass the 2
+//     over: the centred double decrease)
 //   yo: consumes nothing (an empty needle that the next knit row casts a loop onto)
 //
 // Brother lace-carriage model (our decision where the machine manuals are vague):

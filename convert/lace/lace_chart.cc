@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "algorithms/lace/chart_layout.h"
 #include "convert/common/cairo_output.h"
 #include "convert/common/chart_text.h"
 #include "convert/common/output_files.h"
@@ -29,7 +30,8 @@ constexpr double kMaxCell = 6 * kMm, kMinCell = 4 * kMm;
 constexpr double kGutterRight = 9 * kMm;  // row numbers
 constexpr double kGutterLeft = 3 * kMm;
 constexpr double kLegendLine = 6 * kMm;
-constexpr double kHeader = 17 * kMm + 5 * kLegendLine + 3 * kMm;  // title, details, legend
+// Title, details, the legend (a line per symbol) and its note on double yarn-overs.
+constexpr double kHeader = 17 * kMm + 7 * kLegendLine + 3 * kMm;
 constexpr double kFooter = 7 * kMm;       // stitch numbers
 constexpr double kLegendWidth = 150 * kMm;
 
@@ -43,8 +45,18 @@ constexpr LegendEntry kLegend[] = {
     {Symbol::yo, "yo", "RS: yarn over (makes a stitch and a hole)"},
     {Symbol::k2tog, "k2tog", "RS: knit 2 together (right-slanting decrease)"},
     {Symbol::ssk, "ssk", "RS: slip, slip, knit the 2 slipped stitches together (left-slanting decrease)"},
-    {Symbol::sk2p, "sk2p", "RS: slip 1, knit 2 together, pass slipped stitch over (centred double decrease)"},
+    {Symbol::sk2p, "sk2p", "RS: slip 1, knit 2 together, pass slipped stitch over (left-slanting double decrease)"},
+    {Symbol::s2kp, "s2kp", "RS: slip 2 together knitwise, knit 1, pass the 2 slipped stitches over (centred double decrease)"},
 };
+// Under the legend when the chart has two yarn-overs side by side (issue 22, lace point 3).
+constexpr const char* kDoubleYarnOver =
+    "Two yo side by side (double yarn-over): on the next WS row purl 1, knit 1 into it.";
+
+bool has_double_yarn_over(const Chart& chart) {
+  for (const lace::Row& r : chart.rows)
+    if (lace::max_adjacent_yarn_overs(r, true) >= 2) return true;
+  return false;
+}
 
 // A page's share of the chart: chart rows row0..row1 (0-based), columns col0..col1 counted
 // from the right (0-based), all inclusive.
@@ -56,11 +68,6 @@ struct Page {
   double width, height, cell;
 };
 
-int widest(const Chart& chart) {
-  std::size_t w = 0;
-  for (const lace::Row& r : chart.rows) w = std::max(w, r.size());
-  return static_cast<int>(w);
-}
 
 // The symbol inside the cell whose top-left corner is (x, y).
 void draw_symbol(cairo_t* cr, Symbol s, double x, double y, double c) {
@@ -82,7 +89,12 @@ void draw_symbol(cairo_t* cr, Symbol s, double x, double y, double c) {
       cairo_move_to(cr, x + 0.2 * c, y + 0.2 * c);
       cairo_line_to(cr, x + 0.8 * c, y + 0.8 * c);
       break;
-    case Symbol::sk2p:  // inverted V with a vertical line through its apex
+    case Symbol::sk2p:  // an inverted V leaning left: its apex over the left leg
+      cairo_move_to(cr, x + 0.18 * c, y + 0.82 * c);
+      cairo_line_to(cr, x + 0.25 * c, y + 0.18 * c);
+      cairo_line_to(cr, x + 0.82 * c, y + 0.82 * c);
+      break;
+    case Symbol::s2kp:  // "^" with a vertical line through its apex: the centred double decrease
       cairo_move_to(cr, x + 0.18 * c, y + 0.82 * c);
       cairo_line_to(cr, x + 0.5 * c, y + 0.18 * c);
       cairo_line_to(cr, x + 0.82 * c, y + 0.82 * c);
@@ -97,8 +109,8 @@ void draw_symbol(cairo_t* cr, Symbol s, double x, double y, double c) {
 constexpr double kGridX = kMargin + kGutterLeft;
 constexpr double kGridY = kMargin + kHeader;
 
-void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo& info,
-               const Page& p, const Tile& t, int page, int pages) {
+void draw_page(cairo_t* cr, const Chart& chart, const lace::ChartLayout& layout, int cast_on,
+               const LaceChartInfo& info, const Page& p, const Tile& t, int page, int pages) {
   const double c = p.cell;
   const int ncols = t.col1 - t.col0 + 1, nrows = t.row1 - t.row0 + 1;
   const int rs_rows = static_cast<int>(chart.rows.size());
@@ -136,6 +148,10 @@ void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo
     chart_text(cr, kMargin + lc + 15 * kMm, y + 3.3 * kMm, e.meaning, 8.5, false);
     y += kLegendLine;
   }
+  if (has_double_yarn_over(chart)) {
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    chart_text(cr, kMargin, y + 3.3 * kMm, kDoubleYarnOver, 8.5, false);
+  }
 
   const double gx = kGridX, gy = kGridY;
   // Cells: column k from the right of the tile sits at gx + (t.col1 - k) * c.
@@ -144,12 +160,13 @@ void draw_page(cairo_t* cr, const Chart& chart, int cast_on, const LaceChartInfo
     const double cy = gy + (t.row1 - r) * c;
     for (int k = t.col0; k <= t.col1; ++k) {
       const double cx = gx + (t.col1 - k) * c;
-      if (k >= static_cast<int>(row.size())) {  // no stitch: the row ended on the left
+      const int j = layout.cells[static_cast<std::size_t>(r)][static_cast<std::size_t>(k)];
+      if (j < 0) {  // no stitch: a decrease not yet balanced by a yarn-over, or the reverse
         cairo_set_source_rgb(cr, 0.62, 0.62, 0.62);
         cairo_rectangle(cr, cx, cy, c, c);
         cairo_fill(cr);
       } else {
-        draw_symbol(cr, row[static_cast<std::size_t>(k)], cx, cy, c);
+        draw_symbol(cr, row[static_cast<std::size_t>(j)], cx, cy, c);
       }
     }
   }
@@ -187,8 +204,8 @@ void check_chart(const Chart& chart, int cast_on) {
     throw std::invalid_argument("lace chart: " + k.why);
 }
 
-Page single_page(const Chart& chart, double cell) {
-  const int cols = widest(chart), rows = static_cast<int>(chart.rows.size());
+Page single_page(const Chart& chart, const lace::ChartLayout& layout, double cell) {
+  const int cols = layout.columns, rows = static_cast<int>(chart.rows.size());
   return Page{std::max(kLegendWidth, cols * cell + kGutterLeft + kGutterRight) + 2 * kMargin,
               kGridY + rows * cell + kFooter + kMargin, cell};
 }
@@ -225,8 +242,9 @@ std::string xml_escape(const std::string& s) {
 void write_lace_chart_svg(const Chart& chart, int cast_on, const LaceChartInfo& info,
                           const std::filesystem::path& svg) {
   check_chart(chart, cast_on);
-  const Page p = single_page(chart, kMaxCell);
-  const Tile all{0, static_cast<int>(chart.rows.size()) - 1, 0, widest(chart) - 1};
+  const lace::ChartLayout layout = lace::layout_chart(chart, cast_on);
+  const Page p = single_page(chart, layout, kMaxCell);
+  const Tile all{0, static_cast<int>(chart.rows.size()) - 1, 0, layout.columns - 1};
   CairoBytes bytes;  // drawn into memory, then written atomically (cairo_output.h)
   {
     SurfacePtr surface(cairo_svg_surface_create_for_stream(CairoBytes::write, &bytes, p.width, p.height),
@@ -234,7 +252,7 @@ void write_lace_chart_svg(const Chart& chart, int cast_on, const LaceChartInfo& 
     check_file(cairo_surface_status(surface.get()), svg);
     {
       CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
-      draw_page(cr.get(), chart, cast_on, info, p, all, 1, 1);
+      draw_page(cr.get(), chart, layout, cast_on, info, p, all, 1, 1);
       check_file(cairo_status(cr.get()), svg);
     }
     cairo_surface_finish(surface.get());
@@ -248,6 +266,7 @@ void write_lace_chart_svg(const Chart& chart, int cast_on, const LaceChartInfo& 
   std::string desc = "Multiple of " + std::to_string(cast_on) + " sts, " +
                      std::to_string(2 * chart.rows.size()) + " rows. Legend:";
   for (const LegendEntry& e : kLegend) desc += std::string(" ") + e.name + " - " + e.meaning + ";";
+  if (has_double_yarn_over(chart)) desc += std::string(" ") + kDoubleYarnOver;
   doc.insert(end + 1, "\n<title>" +
                           xml_escape((info.title.empty() ? std::string("Lace") : info.title) +
                                      " - lace chart") +
@@ -258,7 +277,8 @@ void write_lace_chart_svg(const Chart& chart, int cast_on, const LaceChartInfo& 
 int write_lace_chart_pdf(const Chart& chart, int cast_on, const LaceChartInfo& info,
                          const std::filesystem::path& pdf) {
   check_chart(chart, cast_on);
-  const int cols = widest(chart), rows = static_cast<int>(chart.rows.size());
+  const lace::ChartLayout layout = lace::layout_chart(chart, cast_on);
+  const int cols = layout.columns, rows = static_cast<int>(chart.rows.size());
   const double avail_w = kPageW - 2 * kMargin - kGutterLeft - kGutterRight;
   const double avail_h = kPageH - kMargin - kGridY - kFooter;
   double cell = std::min({kMaxCell, avail_w / cols, avail_h / rows});
@@ -287,7 +307,7 @@ int write_lace_chart_pdf(const Chart& chart, int cast_on, const LaceChartInfo& i
   {
     CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
     for (std::size_t i = 0; i < tiles.size(); ++i) {
-      draw_page(cr.get(), chart, cast_on, info, p, tiles[i], static_cast<int>(i) + 1,
+      draw_page(cr.get(), chart, layout, cast_on, info, p, tiles[i], static_cast<int>(i) + 1,
                 static_cast<int>(tiles.size()));
       cairo_show_page(cr.get());
     }
@@ -302,8 +322,9 @@ int write_lace_chart_pdf(const Chart& chart, int cast_on, const LaceChartInfo& i
 LaceChartRaster render_lace_chart_png(const Chart& chart, int cast_on, const LaceChartInfo& info,
                                       double px_per_mm) {
   check_chart(chart, cast_on);
-  const Page p = single_page(chart, kMaxCell);
-  const Tile all{0, static_cast<int>(chart.rows.size()) - 1, 0, widest(chart) - 1};
+  const lace::ChartLayout layout = lace::layout_chart(chart, cast_on);
+  const Page p = single_page(chart, layout, kMaxCell);
+  const Tile all{0, static_cast<int>(chart.rows.size()) - 1, 0, layout.columns - 1};
   const double scale = px_per_mm / kMm;  // pixels per point
   const int w = static_cast<int>(std::ceil(p.width * scale)), h = static_cast<int>(std::ceil(p.height * scale));
   SurfacePtr surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h), cairo_surface_destroy);
@@ -311,7 +332,7 @@ LaceChartRaster render_lace_chart_png(const Chart& chart, int cast_on, const Lac
   {
     CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
     cairo_scale(cr.get(), scale, scale);
-    draw_page(cr.get(), chart, cast_on, info, p, all, 1, 1);
+    draw_page(cr.get(), chart, layout, cast_on, info, p, all, 1, 1);
     check(cairo_status(cr.get()));
   }
   cairo_surface_flush(surface.get());
@@ -322,11 +343,17 @@ LaceChartRaster render_lace_chart_png(const Chart& chart, int cast_on, const Lac
   const double gx = kGridX, gy = kGridY;
   for (int r = 0; r <= all.row1; ++r) {
     std::vector<cv::Rect2d> cells;
-    for (std::size_t k = 0; k < chart.rows[static_cast<std::size_t>(r)].size(); ++k) {
-      cells.emplace_back((gx + (all.col1 - static_cast<int>(k)) * p.cell) * scale,
+    for (std::size_t j = 0; j < chart.rows[static_cast<std::size_t>(r)].size(); ++j) {
+      const int k = layout.column[static_cast<std::size_t>(r)][j];
+      cells.emplace_back((gx + (all.col1 - k) * p.cell) * scale,
                          (gy + (all.row1 - r) * p.cell) * scale, p.cell * scale, p.cell * scale);
     }
     out.cells.push_back(std::move(cells));
+    std::vector<cv::Rect2d> grid;
+    for (int k = 0; k < layout.columns; ++k)
+      grid.emplace_back((gx + (all.col1 - k) * p.cell) * scale, (gy + (all.row1 - r) * p.cell) * scale,
+                        p.cell * scale, p.cell * scale);
+    out.grid.push_back(std::move(grid));
   }
   return out;
 }

@@ -4,10 +4,14 @@
 // row 1 at the bottom, read right to left; odd row numbers (1, 3, 5, ...) on the RIGHT edge;
 // stitch numbers along the bottom counted from the right. Cell j from the right of chart row r
 // is Chart::rows[r][j] (knitting order). Symbols: k = empty square, yo = circle, k2tog = "/",
-// ssk = "\", sk2p = an inverted V with a vertical line (the centred double decrease). A row
-// narrower than the widest row gets grey "no stitch" cells at its LEFT end (the row is worked
-// from the right and simply ends earlier). At the top: a title line (title, multiple of N
-// sts, rows) and a legend (symbol, abbreviation, "RS: ..." meaning).
+// ssk = "\", s2kp = "^" with a vertical line (the centred double decrease), sk2p = an inverted V
+// leaning left (its true lean; issue 22), grey = no stitch. Cells are
+// laid out as lace charts are printed (algorithms/lace/chart_layout.h): every row has the same
+// number of columns, each stitch sits over the stitches it is worked into, and grey "no
+// stitch" cells fill the columns where a decrease is not yet balanced by a yarn-over (or the
+// other way round), so the motif shows. At the top: a title line (title, multiple of N
+// sts, rows) and a legend (symbol, abbreviation, "RS: ..." meaning), with a note on working a
+// double yarn-over on the wrong side when the chart has one.
 //
 // SVG: one page of whatever size the chart needs, 6 mm cells; a <title> and <desc> (the
 // legend as text) are added for readers and search, as cairo writes text as glyph outlines.
@@ -41,10 +45,12 @@ int write_lace_chart_pdf(const lace::Chart& chart, int cast_on, const LaceChartI
                          const std::filesystem::path& pdf);
 
 // The SVG's page drawn into an image (for tests and previews): BGR, px_per_mm pixels per
-// millimetre, white paper; cells[r][j] is the pixel rectangle of Chart::rows[r][j].
+// millimetre, white paper; cells[r][j] is the pixel rectangle of Chart::rows[r][j], grid[r][c]
+// that of column c (counted from the right, chart_layout.h) of chart row r.
 struct LaceChartRaster {
   cv::Mat image;  // CV_8UC3
   std::vector<std::vector<cv::Rect2d>> cells;
+  std::vector<std::vector<cv::Rect2d>> grid;
 };
 LaceChartRaster render_lace_chart_png(const lace::Chart& chart, int cast_on,
                                       const LaceChartInfo& info, double px_per_mm = 8.0);

@@ -1,5 +1,7 @@
 #include "convert/lace/lace_chart_json.h"
 
+#include "algorithms/lace/chart_layout.h"
+
 namespace atelier {
 
 nlohmann::json lace_chart_to_json(const LaceChartFile& file) {
@@ -9,10 +11,25 @@ nlohmann::json lace_chart_to_json(const LaceChartFile& file) {
     for (lace::Symbol s : row) r.push_back(std::string(lace::name(s)));
     rows.push_back(std::move(r));
   }
-  return {{"cast_on", file.cast_on},
-          {"repeats_wide", file.repeats_wide},
-          {"repeats_high", file.repeats_high},
-          {"rows", std::move(rows)}};
+  nlohmann::json out = {{"cast_on", file.cast_on},
+                        {"repeats_wide", file.repeats_wide},
+                        {"repeats_high", file.repeats_high},
+                        {"rows", std::move(rows)}};
+  // The printed layout, only for a chart it can be made of (the reader refuses other charts).
+  if (lace::knittable(file.chart, file.cast_on)) {
+    const lace::ChartLayout layout = lace::layout_chart(file.chart, file.cast_on);
+    nlohmann::json grid = nlohmann::json::array();
+    for (std::size_t r = 0; r < layout.cells.size(); ++r) {
+      nlohmann::json cells = nlohmann::json::array();
+      for (int j : layout.cells[r]) {
+        if (j < 0) cells.push_back(nullptr);
+        else cells.push_back(std::string(lace::name(file.chart.rows[r][static_cast<std::size_t>(j)])));
+      }
+      grid.push_back(std::move(cells));
+    }
+    out["layout"] = {{"columns", layout.columns}, {"rows", std::move(grid)}};
+  }
+  return out;
 }
 
 LaceChartFile lace_chart_from_json(const nlohmann::json& j, const std::string& source) {

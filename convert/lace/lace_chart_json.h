@@ -4,6 +4,10 @@
 // width), and "repeats_wide" / "repeats_high", the swatch the job knits (preview, knitout and
 // the machine: the chart repeated side by side and on top of itself). Read by the
 // knitting-machine device and by `start_chart`.
+// Written too (issue 22), never read back: "layout", the chart as printed (chart_layout.h):
+// {"columns": W, "rows": [[cell, ...], ...]}, rows as in "rows", each W cells in knitting order
+// (column 0 the chart's right edge), a cell the symbol's name or null for a "no stitch" cell.
+// Readers that know only "rows" are unaffected; files without "layout" read as before.
 // Pure; thread-safe.
 #pragma once
 

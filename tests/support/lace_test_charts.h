@@ -50,7 +50,8 @@ inline Chart horseshoe_chart() {
 
 // What a hand knitter makes: per chart row, per stitch (knitting order), the stitches of the row
 // below it is worked through, bottom first (k2tog: first under second; ssk: second under first;
-// sk2p: the middle, then the third, the first on top). Stitches of the row below are counted
+// sk2p: the middle, then the third, the first on top; s2kp: the third, the first, the middle
+// on top). Stitches of the row below are counted
 // from 0 across the whole width, all repeats side by side.
 using Fabric = std::vector<std::vector<std::vector<int>>>;  // row -> stitch -> stack
 
@@ -66,6 +67,7 @@ inline std::vector<std::vector<int>> expected_row(const Row& r, int times) {
         case Symbol::k2tog: out.push_back({s, s + 1}); s += 2; break;
         case Symbol::ssk: out.push_back({s + 1, s}); s += 2; break;
         case Symbol::sk2p: out.push_back({s + 1, s + 2, s}); s += 3; break;
+        case Symbol::s2kp: out.push_back({s + 2, s, s + 1}); s += 3; break;
       }
     }
   }

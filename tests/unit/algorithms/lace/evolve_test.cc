@@ -154,10 +154,10 @@ TEST(LaceEvolve, ExtraViolationsAreConstraints) {
   p.extra_violations = [&](const Chart& c, int cast_on) {
     EXPECT_EQ(cast_on, 8);
     ++calls;
-    return count(c, Symbol::sk2p);
+    return count(c, Symbol::sk2p) + count(c, Symbol::s2kp);
   };
   const EvolveResult r = evolve(p);
-  EXPECT_EQ(count(r.chart, Symbol::sk2p), 0);
+  EXPECT_EQ(count(r.chart, Symbol::sk2p) + count(r.chart, Symbol::s2kp), 0);
   EXPECT_EQ(r.evaluation.constraints.extra, 0);
   EXPECT_GT(calls.load(), p.population);
   // Nothing can satisfy it: a clear error, not an infeasible chart.

@@ -91,6 +91,24 @@ TEST(LaceInstructions, ExampleRowIsWrittenAsPatternBooksDo) {
   }
 }
 
+// Issue 22, lace point 3: a double yarn-over is worked "purl 1, knit 1" on the next WS row, and
+// the instructions say so where the chart has one (rows 1 and 5 here; row 3 has single ones).
+TEST(LaceInstructions, DoubleYarnOversSayHowToWorkThemOnTheWrongSide) {
+  const Chart c{{row({"k", "ssk", "yo", "yo", "k2tog", "k"}), row({"k", "yo", "k2tog", "k", "yo", "k2tog"}),
+                 row({"k2tog", "yo", "yo", "ssk", "k", "k"})}};
+  const std::string text = write_instructions(c, 6, {"double"});
+  EXPECT_TRUE(has_line(text, "Row 2 and all WS rows: purl, except: purl 1, knit 1 into each double "
+                             "yarn-over (yo twice) of the row below (rows 2 and 6).")) << text;
+  EXPECT_NE(text.find("yo, yo double yarn-over: on the WS row after\nit purl 1, knit 1 into it"), std::string::npos) << text;
+  EXPECT_EQ(parse_instructions(text).chart, c);  // the reader still takes it back
+  // A double yarn-over across the repeat's edge (last stitch, then the first of the next
+  // repeat) counts too; single yarn-overs only: plain "purl".
+  const std::string edge = write_instructions(Chart{{row({"yo", "k", "k2tog", "k2tog", "k", "yo"})}}, 6, {});
+  EXPECT_FALSE(has_line(edge, "Row 2 and all WS rows: purl.")) << edge;
+  EXPECT_NE(edge.find("(row 2)"), std::string::npos) << edge;
+  EXPECT_TRUE(has_line(write_instructions(example_chart(), 12, {}), "Row 2 and all WS rows: purl."));
+}
+
 TEST(LaceInstructions, RowsUseTheShortestWritingWithRepeats) {
   EXPECT_EQ(write_row(cat({row({"k2tog"}, 3), row({"yo", "k"}, 6), row({"k2tog"}, 3)})),
             "k2tog, k2tog, k2tog, [yo, k1] 6 times, k2tog, k2tog, k2tog");
@@ -181,7 +199,7 @@ std::string error_of(const std::string& text) {
 
 TEST(LaceInstructions, ErrorsNameTheLineAndTheProblem) {
   EXPECT_EQ(error_of("Lace pattern: x\nCast on a multiple of 4 stitches.\n\nRow 1 (RS): k1, k3tog, k1. (3 sts)\n"),
-            "line 4: 'k3tog' is not a stitch of this pattern (k, yo, k2tog, ssk, sk2p)");
+            "line 4: 'k3tog' is not a stitch of this pattern (k, yo, k2tog, ssk, sk2p, s2kp)");
   // The count in parentheses is checked against the row.
   EXPECT_EQ(error_of("Row 1 (RS): k2, yo, k2tog. (5 sts)\n"),
             "line 1: row 1 makes 4 stitches but the line says (5 sts)");

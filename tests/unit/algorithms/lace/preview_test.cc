@@ -171,7 +171,9 @@ TEST(LacePreview, DecreasesLeanAsSeenOnTheRightSide) {
   EXPECT_LT(ssk, -0.08 * o.stitch_px);   // leans left
 }
 
-TEST(LacePreview, DoubleDecreaseIsCentredWithASpine) {
+// Issue 22, lace point 2: sk2p worked as written leans left, like ssk (its top stitch is the
+// right one); it has no centred spine.
+TEST(LacePreview, Sk2pLeansLeft) {
   PreviewOptions o;
   o.repeats_x = o.repeats_y = 1;
   o.stitch_px = 24;
@@ -180,6 +182,25 @@ TEST(LacePreview, DoubleDecreaseIsCentredWithASpine) {
   const PreviewLayout l = layout_preview(c, 10, o);
   const PlacedStitch& s = l.courses[2][4];
   ASSERT_EQ(s.symbol, Symbol::sk2p);
+  // The same chart with the centred s2kp there: sk2p's top sits clearly further left.
+  Chart centred = c;
+  centred.rows[1][4] = Symbol::s2kp;
+  const double upright = lean(render_preview(centred, 10, o), l, s, o);
+  const double left = lean(img, l, s, o);
+  EXPECT_LT(left, -0.03 * o.stitch_px) << left;
+  EXPECT_LT(left, upright - 0.03 * o.stitch_px) << left << " vs s2kp " << upright;
+}
+
+// The centred double decrease is s2kp (the evolved charts' double decrease).
+TEST(LacePreview, DoubleDecreaseIsCentredWithASpine) {
+  PreviewOptions o;
+  o.repeats_x = o.repeats_y = 1;
+  o.stitch_px = 24;
+  const Chart c{{knit(10), row({"k", "k", "yo", "k", "s2kp", "k", "yo", "k", "k", "k"}), knit(10)}};
+  const cv::Mat img = render_preview(c, 10, o);
+  const PreviewLayout l = layout_preview(c, 10, o);
+  const PlacedStitch& s = l.courses[2][4];
+  ASSERT_EQ(s.symbol, Symbol::s2kp);
   EXPECT_LT(std::abs(lean(img, l, s, o)), 0.05 * o.stitch_px);
   // The spine: yarn all the way up the stitch's centre line, where a plain V has the edges of
   // its two legs.

@@ -38,3 +38,33 @@ TEST(LaceChartJson, NumbersOutsideTheirRangeAreRefusedNotWrapped) {
 
 }  // namespace
 }  // namespace atelier
+
+namespace atelier {
+namespace {
+
+// chart.json carries the printed layout (issue 22, lace point 1): every row as wide as the
+// others, null for a "no stitch" cell, the yarn-overs of row 3 over row 1's no-stitch cells;
+// "rows" stay as they were and the file reads back to the same chart.
+TEST(LaceChartJson, LayoutIsWrittenBesideTheRowsAndOldFilesStillRead) {
+  LaceChartFile f;
+  f.chart = lace::Chart{{{lace::Symbol::k, lace::Symbol::k2tog, lace::Symbol::k, lace::Symbol::k2tog, lace::Symbol::k},
+                         {lace::Symbol::k, lace::Symbol::yo, lace::Symbol::k, lace::Symbol::k, lace::Symbol::yo,
+                          lace::Symbol::k, lace::Symbol::k}}};
+  f.cast_on = 7;
+  const nlohmann::json j = lace_chart_to_json(f);
+  ASSERT_TRUE(j.contains("layout"));
+  EXPECT_EQ(j["layout"]["columns"], 7);
+  EXPECT_EQ(j["layout"]["rows"][0], nlohmann::json::parse(R"(["k", null, "k2tog", "k", null, "k2tog", "k"])"));
+  EXPECT_EQ(j["layout"]["rows"][1], nlohmann::json::parse(R"(["k", "yo", "k", "k", "yo", "k", "k"])"));
+  EXPECT_EQ(j["rows"][0], nlohmann::json::parse(R"(["k", "k2tog", "k", "k2tog", "k"])"));
+  const LaceChartFile back = lace_chart_from_json(j, "c.json");
+  EXPECT_EQ(back.chart, f.chart);
+  EXPECT_EQ(back.cast_on, 7);
+  // A file written before the layout existed reads the same.
+  nlohmann::json old = j;
+  old.erase("layout");
+  EXPECT_EQ(lace_chart_from_json(old, "old.json").chart, f.chart);
+}
+
+}  // namespace
+}  // namespace atelier

@@ -50,11 +50,12 @@ class LaceChartRender : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-// Every symbol, and a row narrower than the others (6 -> 7 -> 6 stitches).
+// Every symbol, and a row wider than the others (6 -> 7 -> 6 -> 6 stitches).
 Chart sampler() {
   return Chart{{row({"k", "yo", "k2tog", "yo", "ssk", "k"}),       // 6 over 6
                 row({"k", "yo", "k", "k", "k", "k", "k"}),        // 7 over 6
-                row({"k", "sk2p", "yo", "k", "k", "k"})}};
+                row({"k", "sk2p", "yo", "k", "k", "k"}),
+                row({"k", "yo", "s2kp", "yo", "k", "k"})}};
 }
 
 // Ink (dark pixels) in a small square around the point (fx, fy) of a cell, fractions of its
@@ -71,7 +72,7 @@ TEST_F(LaceChartRender, SymbolsSitInTheirCells) {
   const Chart c = sampler();
   ASSERT_TRUE(lace::knittable(c, 6)) << lace::knittable(c, 6).why;
   const LaceChartRaster r = render_lace_chart_png(c, 6, {"sampler"});
-  ASSERT_EQ(r.cells.size(), 3u);
+  ASSERT_EQ(r.cells.size(), 4u);
   ASSERT_EQ(r.cells[1].size(), 7u);
   // Row 1 is at the bottom, stitch 1 (knitting order 0) on the right.
   EXPECT_GT(r.cells[0][0].y, r.cells[1][0].y);
@@ -104,7 +105,13 @@ TEST_F(LaceChartRender, SymbolsSitInTheirCells) {
           EXPECT_EQ(ink(img, cell, 0.3, 0.7), 0.0) << where;
           EXPECT_EQ(ink(img, cell, 0.7, 0.3), 0.0) << where;
           break;
-        case Symbol::sk2p:  // inverted V with a vertical line
+        case Symbol::sk2p:  // an inverted V leaning left (apex over its left leg), no spine
+          EXPECT_GT(ink(img, cell, 0.24, 0.3), 0.2) << where;
+          EXPECT_GT(ink(img, cell, 0.71, 0.7), 0.2) << where;
+          EXPECT_EQ(ink(img, cell, 0.5, 0.75), 0.0) << where;
+          EXPECT_EQ(ink(img, cell, 0.78, 0.3), 0.0) << where;
+          break;
+        case Symbol::s2kp:  // "^" with a vertical line: centred
           EXPECT_GT(ink(img, cell, 0.5, 0.7), 0.2) << where;
           EXPECT_GT(ink(img, cell, 0.26, 0.7), 0.2) << where;
           EXPECT_GT(ink(img, cell, 0.74, 0.7), 0.2) << where;
@@ -114,13 +121,51 @@ TEST_F(LaceChartRender, SymbolsSitInTheirCells) {
       }
     }
   }
-  // Narrower rows: grey "no stitch" cells at the left end.
-  const cv::Rect2d left_of_row1(r.cells[0][5].x - r.cells[0][5].width, r.cells[0][5].y,
-                                r.cells[0][5].width, r.cells[0][5].height);
-  const cv::Vec3b grey = img.at<cv::Vec3b>(cv::Point(static_cast<int>(left_of_row1.x + left_of_row1.width / 2),
-                                                     static_cast<int>(left_of_row1.y + left_of_row1.height / 2)));
-  EXPECT_GT(grey[1], 100);
-  EXPECT_LT(grey[1], 200);
+}
+
+// The middle of a cell's pixel: grey for a "no stitch" cell, white for a stitch.
+cv::Vec3b centre_of(const cv::Mat& img, const cv::Rect2d& cell) {
+  return img.at<cv::Vec3b>(cv::Point(static_cast<int>(cell.x + 0.5 * cell.width), static_cast<int>(cell.y + 0.5 * cell.height)));
+}
+bool grey(const cv::Vec3b& v) { return v[1] > 100 && v[1] < 200; }
+
+// Issue 22, lace point 1: columns line up. Decreases first (row 1: 7 -> 5 stitches), their
+// yarn-overs a row later: row 1 is drawn 7 cells wide with a grey no-stitch cell beside each
+// k2tog (columns 2 and 5 from the right), row 3's yarn-overs sit right above them, and every
+// plain stitch of row 3 sits in the column of the stitch below it.
+TEST_F(LaceChartRender, ColumnsLineUpWithNoStitchCellsWhereADecreaseIsNotYetBalanced) {
+  const Chart c{{row({"k", "k2tog", "k", "k2tog", "k"}), row({"k", "yo", "k", "k", "yo", "k", "k"})}};
+  const LaceChartRaster r = render_lace_chart_png(c, 7, {"columns"});
+  ASSERT_EQ(r.grid.size(), 2u);
+  ASSERT_EQ(r.grid[0].size(), 7u);
+  ASSERT_EQ(r.grid[1].size(), 7u);
+  for (int col = 0; col < 7; ++col) {
+    const bool no_stitch = col == 1 || col == 4;
+    EXPECT_EQ(grey(centre_of(r.image, r.grid[0][static_cast<std::size_t>(col)])), no_stitch) << "row 1 column " << col + 1;
+    EXPECT_FALSE(grey(centre_of(r.image, r.grid[1][static_cast<std::size_t>(col)]))) << "row 3 column " << col + 1;
+    EXPECT_DOUBLE_EQ(r.grid[0][static_cast<std::size_t>(col)].x, r.grid[1][static_cast<std::size_t>(col)].x);
+  }
+  // The k2togs in columns 3 and 6 ("/" ink), the yarn-overs above the grey cells (a ring).
+  EXPECT_EQ(r.cells[0][1], r.grid[0][2]);
+  EXPECT_EQ(r.cells[0][3], r.grid[0][5]);
+  EXPECT_GT(ink(r.image, r.grid[0][2], 0.7, 0.3), 0.2);
+  EXPECT_EQ(r.cells[1][1], r.grid[1][1]);
+  EXPECT_EQ(r.cells[1][4], r.grid[1][4]);
+  EXPECT_GT(ink(r.image, r.grid[1][1], 0.5, 0.2), 0.2);
+  EXPECT_EQ(ink(r.image, r.grid[1][1], 0.5, 0.5), 0.0);
+  // Row 3's plain stitch 3 is worked into row 1's stitch 2 (the k2tog): same column.
+  EXPECT_EQ(r.cells[1][2].x, r.cells[0][1].x);
+  // The yarn-over before its decrease (row 3 of the sampler adds a stitch): the column it adds
+  // is a grey cell in row 1 right below it, not at the row's left end.
+  const Chart s = sampler();
+  const LaceChartRaster rs = render_lace_chart_png(s, 6, {"sampler"});
+  ASSERT_EQ(rs.grid[0].size(), 7u);
+  int greys = 0;
+  for (std::size_t col = 0; col < 7; ++col) greys += grey(centre_of(rs.image, rs.grid[0][col]));
+  EXPECT_EQ(greys, 1);
+  EXPECT_TRUE(grey(centre_of(rs.image, rs.grid[0][1])));       // below row 3's yo (column 2)
+  EXPECT_FALSE(grey(centre_of(rs.image, rs.grid[0][6])));      // the left end is a stitch
+  EXPECT_EQ(rs.cells[1][1], rs.grid[1][1]);
 }
 
 TEST_F(LaceChartRender, SvgIsWrittenWithTitleAndLegend) {
@@ -139,10 +184,22 @@ TEST_F(LaceChartRender, SvgIsWrittenWithTitleAndLegend) {
     const std::string d = (*it)[1].str();
     if (count(d, "C ") == 2 && d.find('L') == std::string::npos) ++circles;
   }
-  EXPECT_EQ(circles, 4 + 1);
+  EXPECT_EQ(circles, 6 + 1);
   for (const char* word : {"yarn over", "knit 2 together", "right-slanting", "left-slanting",
-                           "double decrease", "Multiple of 6 sts"})
+                           "sk2p - RS: slip 1, knit 2 together, pass slipped stitch over (left-slanting double decrease)",
+                           "s2kp - RS: slip 2 together knitwise, knit 1, pass the 2 slipped stitches over (centred double decrease)",
+                           "Multiple of 6 sts"})
     EXPECT_NE(text.find(word), std::string::npos) << word;
+}
+
+// Issue 22, lace point 3: the legend says how to work a double yarn-over on the wrong side,
+// only when the chart has one.
+TEST_F(LaceChartRender, LegendSaysHowToWorkADoubleYarnOver) {
+  const std::string note = "Two yo side by side (double yarn-over): on the next WS row purl 1, knit 1 into it.";
+  write_lace_chart_svg(Chart{{row({"k", "ssk", "yo", "yo", "k2tog", "k"})}}, 6, {}, dir_ / "double.svg");
+  EXPECT_NE(slurp(dir_ / "double.svg").find(note), std::string::npos);
+  write_lace_chart_svg(sampler(), 6, {}, dir_ / "single.svg");
+  EXPECT_EQ(slurp(dir_ / "single.svg").find(note), std::string::npos);
 }
 
 TEST_F(LaceChartRender, PdfIsA4AndSplitsBigCharts) {

@@ -110,7 +110,8 @@ TEST_F(ConvertLaceTest, AJobWritesEveryOutputAndItsChartKeepsThePapersConstraint
   EXPECT_EQ(r["generations"], 15);
   EXPECT_EQ(r["best_score"].size(), 16u) << "generation 0 and each of the 15";
   EXPECT_EQ(r["stitches"]["yo"].get<int>(),
-            r["stitches"]["k2tog"].get<int>() + r["stitches"]["ssk"].get<int>() + 2 * r["stitches"]["sk2p"].get<int>());
+            r["stitches"]["k2tog"].get<int>() + r["stitches"]["ssk"].get<int>() +
+                2 * (r["stitches"]["sk2p"].get<int>() + r["stitches"]["s2kp"].get<int>()));
   for (const char* term : {"holes", "knit_length", "depth", "symmetry", "score"})
     EXPECT_TRUE(r["fitness"].contains(term)) << term;
   EXPECT_TRUE(r["machine"].contains("problems"));
