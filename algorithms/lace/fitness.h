@@ -17,7 +17,7 @@ namespace atelier::lace {
 // on how much variation in size is allowed").
 struct Weights {
   double holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 1.0;
-  double hole_lines = 1.0;  // holes in lines (hole_lines.h)
+  double hole_lines = 3.0;     // holes in lines (hole_lines.h)
   double yo_band = 50.0;       // minimised: yo_band_distance
   double width_change = 0.5;   // minimised: width_change
   // The yarn-over share band, 0 <= yo_share_min <= yo_share_max <= 1 (fractions of cells).
