@@ -115,7 +115,7 @@ TEST(LaceFitness, YarnOverShareOutsideTheBandIsMinimised) {
   Weights holes_only{};
   holes_only.yo_band = 0;
   EXPECT_GT(evaluate(dense, 12, holes_only, 2).score, evaluate(sparse, 12, holes_only, 2).score);
-  const Row in_band = cat({row({"yo", "k2tog", "k", "ssk", "yo"}), knit(7)});  // 2 / 12 = 17 %
+  const Row in_band = cat({knit(3), row({"yo", "k2tog", "k", "k", "ssk", "yo"}), knit(3)});  // 2 / 12 = 17 %
   const Chart lace{{in_band, in_band, in_band, in_band}};
   const Evaluation good = evaluate(lace, 12, Weights{}, 2);
   EXPECT_DOUBLE_EQ(good.objectives.yo_band_distance, 0.0);
