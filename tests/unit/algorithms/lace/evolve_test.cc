@@ -275,8 +275,10 @@ TEST(LaceEvolve, TheOldWeightsGiveARandomMesh) {
   p.weights.symmetry = 0.5;
   p.weights.hole_lines = p.weights.yo_band = p.weights.width_change = 0;
   const EvolveResult r = evolve(p);
-  EXPECT_GT(r.evaluation.objectives.yo_share, 0.25);  // ~40 % holes
-  EXPECT_LT(r.evaluation.objectives.symmetry, kSymmetryFloor);
+  // ~40 % holes: outside classic lace's band, the design check fails. (The new symmetric seeds
+  // and mirror mutation make even these charts symmetric; with main's operators seeds 1-3 had
+  // symmetry 0.37-0.44 and 70-84 % of the holes in lines at 41-42 % holes.)
+  EXPECT_GT(r.evaluation.objectives.yo_share, 0.25);
 }
 
 }  // namespace
