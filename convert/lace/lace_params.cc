@@ -33,7 +33,8 @@ LaceParams read_lace_params(const toml::table& table, const std::string& source)
   if (p.yo_share_min > p.yo_share_max) {
     r.fail("yo_share_min", "must not be above yo_share_max (" + std::to_string(p.yo_share_max) + ")");
   }
-  if (r.has("target_score")) p.target_score = r.get_double("target_score", 0, -1e6, 1e6);
+  // 0 (the default) is no target: a chart that good is no reason to stop.
+  if (const double t = r.get_double("target_score", 0, 0, 1e6); t > 0) p.target_score = t;
   p.stagnation = static_cast<int>(r.get_int("stagnation", p.stagnation, 0, 100000));
   p.width_tolerance = static_cast<int>(r.get_int("width_tolerance", p.width_tolerance, 0, 50));
   p.seed = static_cast<std::uint64_t>(r.get_int("seed", 1, 0, int64_t{1} << 53));

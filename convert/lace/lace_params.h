@@ -13,7 +13,7 @@
 //                                change (both minimised)
 //   yo_share_min = 0.10, yo_share_max = 0.25 [0, 1]
 //                                the yarn-over share band (fractions of the cells; min <= max)
-//   target_score                 stop once the best chart scores this much (default: never)
+//   target_score = 0 [0, 1e6]    stop once the best chart scores this much (0: no target)
 //   stagnation = 100 [0, 100000]  stop after this many generations without a better chart
 //                                (0: run all generations)
 //   width_tolerance = 2 [0, 50]  how far an intermediate row may be wider or narrower than the

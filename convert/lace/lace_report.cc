@@ -41,7 +41,7 @@ nlohmann::json params_json(const LaceParams& p) {
                       {"width_change", p.width_change},
                       {"yo_share_min", p.yo_share_min},
                       {"yo_share_max", p.yo_share_max},
-                      {"target_score", p.target_score ? nlohmann::json(*p.target_score) : nlohmann::json(nullptr)},
+                      {"target_score", p.target_score ? *p.target_score : 0.0},
                       {"stagnation", p.stagnation},
                       {"width_tolerance", p.width_tolerance},
                       {"seed", p.seed},

@@ -317,8 +317,10 @@ TEST_F(ConvertLaceTest, DesignWeightsAreCheckedByKey) {
   EXPECT_THAT(error_of(kQuick + "yo_share_min = 0.3\n"), HasSubstr("yo_share_min"));
   EXPECT_THAT(error_of(kQuick + "stagnation = -2\n"), HasSubstr("stagnation"));
   EXPECT_THAT(error_of(kQuick + "target_score = \"high\"\n"), HasSubstr("target_score"));
-  // A target a first generation reaches stops at once.
-  run(kQuick + "target_score = -1000\n");
+  EXPECT_THAT(error_of(kQuick + "target_score = -1\n"), HasSubstr("target_score"));
+  // A target a first generation reaches stops at once (without the minimised terms every
+  // feasible chart with lace scores well above 0.01).
+  run(kQuick + "target_score = 0.01\nyo_band = 0\nwidth_change = 0\n");
   const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "out" / "report.json"));
   EXPECT_EQ(r["stopped_by"], "target_score");
   EXPECT_EQ(r["generations"], 0);
