@@ -2,6 +2,7 @@
 // 500 x 200 generations, a 12-stitch x 16-row chart, 2 evaluation threads. Target: < 2 s.
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <string>
 
 #include "algorithms/lace/evolve.h"
@@ -32,5 +33,31 @@ void BM_LaceEvolve(benchmark::State& state) {
 }
 
 BENCHMARK(BM_LaceEvolve)->Args({500, 200, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The converter's defaults (lace_params.h): as above but stopping after 100 generations without
+// a better chart (issue 22: stop when good enough), seeds 1-3 in turn; reports the design
+// figures of the last chart.
+void BM_LaceEvolveDefaults(benchmark::State& state) {
+  EvolveParams p;
+  p.stagnation = 100;
+  std::uint64_t seed = 0;
+  int generations = 0;
+  double yo_share = 0, hole_lines = 0, symmetry = 0;
+  for (auto _ : state) {
+    p.seed = 1 + seed++ % 3;
+    const EvolveResult r = evolve(p);
+    generations = r.generations_run;
+    yo_share = r.evaluation.objectives.yo_share;
+    hole_lines = r.evaluation.objectives.hole_lines;
+    symmetry = r.evaluation.objectives.symmetry;
+    benchmark::DoNotOptimize(r.chart.rows.data());
+  }
+  state.counters["generations"] = generations;
+  state.counters["yo_share"] = yo_share;
+  state.counters["hole_lines"] = hole_lines;
+  state.counters["symmetry"] = symmetry;
+}
+
+BENCHMARK(BM_LaceEvolveDefaults)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 }  // namespace

@@ -106,15 +106,27 @@ void validate(const EvolveParams& p) {
   require(p.sharing_radius >= 0 && p.sharing_radius <= 1, "sharing_radius must be in [0, 1]");
   require(std::isfinite(p.sharing_alpha) && p.sharing_alpha > 0, "sharing_alpha must be > 0");
   require(p.threads >= 1 && p.threads <= 64, "threads must be 1..64");
+  require(weight_ok(p.weights.hole_lines), "weights.hole_lines must be finite and >= 0");
+  require(weight_ok(p.weights.yo_band), "weights.yo_band must be finite and >= 0");
+  require(weight_ok(p.weights.width_change), "weights.width_change must be finite and >= 0");
+  require(std::isfinite(p.weights.yo_share_min) && std::isfinite(p.weights.yo_share_max) &&
+              p.weights.yo_share_min >= 0 && p.weights.yo_share_min <= p.weights.yo_share_max &&
+              p.weights.yo_share_max <= 1,
+          "weights.yo_share_min and yo_share_max must satisfy 0 <= min <= max <= 1");
+  require(!p.target_score || std::isfinite(*p.target_score), "target_score must be finite");
+  require(p.stagnation >= 0 && p.stagnation <= 100000, "stagnation must be 0..100000");
 }
 
 // One random mutation (probabilities in evolve.h's file comment). Returns whether it changed
 // the forest.
 bool mutate(Forest& f, std::mt19937_64& rng) {
-  const int x = std::uniform_int_distribution<int>(0, 9)(rng);
-  if (x < 4) return subtree_mutation(f, rng);
-  if (x < 6) return flip_slant(f, rng);
-  if (x < 8) return lengthen_plain_run(f, rng);
+  const int x = std::uniform_int_distribution<int>(0, 19)(rng);
+  if (x < 5) return subtree_mutation(f, rng);
+  if (x < 7) return flip_slant(f, rng);
+  if (x < 10) return lengthen_plain_run(f, rng);
+  if (x < 13) return shorten_plain_run(f, rng);
+  if (x < 15) return point_mutation(f, rng);
+  if (x < 17) return mirror_tree(f, rng);
   return swap_trees(f, rng);
 }
 
@@ -146,12 +158,32 @@ class Run {
       report(++generation);
     }
     next_.resize(p_.population);
+    std::string stopped_by = "generations";
+    int since_better = 0;  // generations without a better feasible chart
+    double best_seen = best_ ? best_->evaluation.score : -std::numeric_limits<double>::infinity();
     while (generation < p_.generations) {
+      if (p_.target_score && best_ && best_->evaluation.score >= *p_.target_score) {
+        stopped_by = "target_score";
+        break;
+      }
+      if (p_.stagnation > 0 && since_better >= p_.stagnation) {
+        stopped_by = "stagnation";
+        break;
+      }
       breed();
       pop_.swap(next_);
       evaluate_all(0);  // elites and unchanged copies are skipped
       record();
       report(++generation);
+      if (best_ && best_->evaluation.score > best_seen) {
+        best_seen = best_->evaluation.score;
+        since_better = 0;
+      } else {
+        ++since_better;
+      }
+    }
+    if (stopped_by == "generations" && p_.target_score && best_ && best_->evaluation.score >= *p_.target_score) {
+      stopped_by = "target_score";
     }
     if (!best_) {
       throw std::runtime_error(
@@ -163,6 +195,7 @@ class Run {
     result.cast_on = width_;
     result.evaluation = best_->evaluation;
     result.generations_run = generation;
+    result.stopped_by = stopped_by;
     result.best_score = std::move(best_score_);
     result.feasible_in_final_population = static_cast<int>(std::count_if(
         pop_.begin(), pop_.end(), [](const Individual& i) { return i.evaluation.constraints.ok(); }));
@@ -170,12 +203,16 @@ class Run {
   }
 
  private:
-  // Half grown trees (shape variety), half row-by-row charts that satisfy the constraints.
+  // Half grown trees (shape variety), half row-by-row charts that satisfy the constraints (half
+  // of those mirror-symmetric).
   void random_population() {
     pop_.resize(p_.population);
     for (std::size_t i = 0; i < pop_.size(); ++i) {
-      pop_[i].forest = i % 2 == 0 ? encode(random_feasible_chart(width_, rows_, rng_, p_.carriage_pairings), width_)
-                                  : random_forest(width_, rows_, rng_);
+      // Every fourth a mirror-symmetric row-by-row chart (not for the carriage: see
+      // random_symmetric_chart()), every other one a feasible row-by-row chart, the rest grown.
+      if (i % 4 == 2 && !p_.carriage_pairings) pop_[i].forest = encode(random_symmetric_chart(width_, rows_, rng_), width_);
+      else if (i % 2 == 0) pop_[i].forest = encode(random_feasible_chart(width_, rows_, rng_, p_.carriage_pairings), width_);
+      else pop_[i].forest = random_forest(width_, rows_, rng_);
       pop_[i].evaluated = false;
     }
     add_plain_chart_for_extra_constraints();

@@ -9,8 +9,9 @@
 // One generation: the `elites` best individuals by raw score are copied unchanged; every other
 // child is made from a tournament winner: with probability crossover_rate it gets a subtree of a
 // second tournament winner (crossover), else it is a copy; then with probability mutation_rate
-// it gets one mutation, picked with probabilities 0.4 subtree mutation, 0.2 flip a slant,
-// 0.2 lengthen a plain run, 0.2 swap two trees.
+// it gets one mutation, picked with probabilities 0.25 subtree mutation, 0.1 flip a slant,
+// 0.15 lengthen a plain run, 0.15 shorten a plain run, 0.1 point mutation, 0.1 mirror a tree,
+// 0.15 swap two trees (operators.h).
 //
 // Reproducible: one std::mt19937_64 seeded from `seed` makes every random choice, on the
 // calling thread, in a fixed order. Evaluation and niche counts run on `threads` threads over a
@@ -22,6 +23,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "algorithms/lace/chart.h"
@@ -57,6 +59,12 @@ struct EvolveParams {
   // The first generation's row-by-row charts pair yarn-overs and decreases only as a lace
   // carriage can (random_chart.h), so that charts for the machine start with lace in them.
   bool carriage_pairings = false;
+  // The paper's stopping rule (section 5 step 2: stop "if the resulted pattern is acceptable"):
+  // the run ends before `generations` once the best feasible chart scores at least
+  // target_score (when set), or when the best feasible score has not risen for `stagnation`
+  // generations in a row (0 = never). `generations` stays the bound.
+  std::optional<double> target_score;
+  int stagnation = 0;
   // Called on the calling thread after each generation (1..generations). May be empty.
   std::function<void(int generation, int generations)> progress;
 };
@@ -70,12 +78,15 @@ struct EvolveResult {
   // of a start chart is the start chart alone).
   std::vector<double> best_score;
   int feasible_in_final_population = 0;
+  // Why the run ended: "target_score", "stagnation" or "generations" (the bound).
+  std::string stopped_by = "generations";
 };
 
 // Throws std::invalid_argument naming the field for bad parameters (width 2..200, rows
 // 1..200, population 2..100000, generations 0..100000, weights >= 0 and finite,
 // width_tolerance 0..200, tournament 1..population, elites 0..population-1, rates in [0, 1],
-// sharing_radius in [0, 1], sharing_alpha > 0, threads 1..64, a start chart that cannot be
+// sharing_radius in [0, 1], sharing_alpha > 0, threads 1..64, target_score finite,
+// stagnation 0..100000, 0 <= weights.yo_share_min <= weights.yo_share_max <= 1, a start chart that cannot be
 // knitted from start_cast_on or does not end as wide). Throws std::runtime_error when no
 // feasible chart was ever seen (only possible when extra_violations rejects them all, or with
 // an infeasible start chart and generations = 0). Exceptions from the callbacks propagate.

@@ -1,5 +1,7 @@
 #include "algorithms/lace/fitness.h"
 
+#include "algorithms/lace/hole_lines.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
@@ -49,12 +51,15 @@ int adjacent_excess(const Row& row) {
 
 double weighted_sum(const Objectives& o, const Weights& w) {
   return w.holes * o.holes + w.knit_length * o.knit_length + w.depth * o.depth +
-         w.symmetry * o.symmetry;
+         w.symmetry * o.symmetry + w.hole_lines * o.hole_lines -
+         w.yo_band * o.yo_band_distance - w.width_change * o.width_change;
 }
 
 double penalty(const Constraints& c, const Weights& w) {
   if (c.ok()) return 0.0;
-  return (w.holes + w.knit_length + w.depth + w.symmetry + 1.0) * (1.0 + c.total());
+  return (w.holes + w.knit_length + w.depth + w.symmetry + w.hole_lines + w.yo_band +
+          w.width_change + 1.0) *
+         (1.0 + c.total());
 }
 
 double score(const Constraints& c, const Objectives& o, const Weights& w) {
@@ -87,11 +92,13 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
   c.balance_error = std::abs(cast_on - first_need) +
                     std::abs(cast_on - produced(chart.rows.back()));
 
+  long width_change = 0;  // sum over rows of |produced - cast_on|
   long cells = 0, yarn_overs = 0, plain = 0, plain_on_plain = 0, motif_cells = 0, mirror_matches = 0;
   for (int r = 0; r < rows; ++r) {
     const Row& row = chart.rows[r];
     const int n = produced(row);
     cells += n;
+    width_change += std::abs(n - cast_on);
     c.adjacent_yo_excess += adjacent_excess(row);
     c.width_excess += std::max(0, std::abs(n - cast_on) - width_tolerance) +
                       std::max(0, std::abs(n - first) - width_tolerance);
@@ -140,6 +147,12 @@ Evaluation evaluate(const Chart& chart, int cast_on, const Weights& w, int width
                                    static_cast<double>(plain - plain_on_plain) / rows;
   o.depth = static_cast<double>(reach_sum) / static_cast<double>(reach.size()) / rows;
   o.symmetry = motif_cells == 0 ? 0.0 : static_cast<double>(mirror_matches) / static_cast<double>(motif_cells);
+  o.yo_share = static_cast<double>(yarn_overs) / static_cast<double>(cells);
+  o.yo_band_distance = std::max(0.0, w.yo_share_min - o.yo_share) + std::max(0.0, o.yo_share - w.yo_share_max);
+  o.width_change = std::min(1.0, static_cast<double>(width_change) / rows / cast_on);
+  // The layout needs the stitches row 0 is worked over (a balance error may make that differ
+  // from cast_on).
+  if (first_need >= 1 && yarn_overs > 0) o.hole_lines = hole_lines(chart, first_need).hole_lines;
   e.score = score(c, o, w);
   return e;
 }

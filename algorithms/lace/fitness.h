@@ -8,9 +8,20 @@
 
 namespace atelier::lace {
 
-// Weights of eq. 2 (all objectives are maximised). Each must be >= 0 and finite.
+// Weights of eq. 2. Each must be >= 0 and finite. Eq. 2 maximises the weighted sum of the
+// first group (the paper's holes and knit_length, its tree depth, and the discussion's
+// symmetry and connectedness of holes) minus the weighted sum of the second group, the terms to
+// minimise: how far the yarn-over share is outside [yo_share_min, yo_share_max] (classic lace
+// keeps about 10-25 % holes framed by plain knitting; `holes` alone drives a chart to a 40 %
+// random mesh) and how far the rows' widths wander from the cast-on (section 7: "a limitation
+// on how much variation in size is allowed").
 struct Weights {
-  double holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 0.5;
+  double holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 1.0;
+  double hole_lines = 3.0;     // holes in lines (hole_lines.h)
+  double yo_band = 50.0;       // minimised: yo_band_distance
+  double width_change = 0.5;   // minimised: width_change
+  // The yarn-over share band, 0 <= yo_share_min <= yo_share_max <= 1 (fractions of cells).
+  double yo_share_min = 0.10, yo_share_max = 0.25;
 };
 
 // Constraint violations, in stitches or cells; all zero <=> the chart satisfies the paper's
@@ -57,20 +68,30 @@ struct Objectives {
   // image is not a plain stitch), the fraction equal to their mirror image's symbol; 0 for a
   // chart without lace (plain knitting is trivially symmetric and must not win on it).
   double symmetry = 0;
+  // Connectedness of the holes (hole_lines.h, HoleLines::hole_lines): the share of yarn-overs
+  // that are part of a line of holes over at least 3 consecutive rows; 0 without holes.
+  double hole_lines = 0;
+  // The yarn-over share, |yo| / cells (not an objective itself: yo_band_distance is).
+  double yo_share = 0;
+  // Minimised: max(0, yo_share_min - yo_share) + max(0, yo_share - yo_share_max), 0..1.
+  double yo_band_distance = 0;
+  // Minimised: the mean over rows of |produced(row) - cast_on| / cast_on, capped at 1.
+  double width_change = 0;
 };
 
 struct Evaluation {
   Constraints constraints;
   Objectives objectives;
   // Eq. 2: w.holes * holes + w.knit_length * knit_length + w.depth * depth + w.symmetry *
-  // symmetry, minus penalty(constraints, w). Higher is better.
+  // symmetry + w.hole_lines * hole_lines - w.yo_band * yo_band_distance -
+  // w.width_change * width_change, minus penalty(constraints, w). Higher is better.
   double score = 0;
 };
 
-// The weighted sum of eq. 2 (in [0, sum of weights]).
+// The weighted sum of eq. 2 (in [-(yo_band + width_change), sum of the maximised weights]).
 double weighted_sum(const Objectives& o, const Weights& w);
 
-// 0 for a feasible chart, else (sum of weights + 1) * (1 + constraints.total()), so any chart
+// 0 for a feasible chart, else (sum of the seven weights + 1) * (1 + constraints.total()), so any chart
 // that violates a constraint scores below every feasible chart, and fewer violations score
 // higher among equal objectives.
 double penalty(const Constraints& c, const Weights& w);

@@ -191,6 +191,105 @@ bool lengthen_plain_run(Forest& f, std::mt19937_64& rng) {
   return replace_tree(f, p.tree, splice(tree, dec, plain, 0));
 }
 
+bool shorten_plain_run(Forest& f, std::mt19937_64& rng) {
+  auto on_plain = [&](std::size_t t, std::uint32_t i) {
+    const auto& nodes = f.trees[t].nodes;
+    const Node& n = nodes[i];
+    if (n.cast_on || n.symbol != Symbol::k) return false;
+    const Node& below = nodes[n.first_child];
+    return !below.cast_on && below.symbol == Symbol::k;
+  };
+  const std::size_t n = count(f, on_plain);
+  if (n == 0) return false;
+  const Place p = kth(f, pick(n, rng), on_plain);
+  const Tree& tree = f.trees[p.tree];
+  const std::uint32_t lower = tree.nodes[p.node].first_child;
+  const int row = level_of(tree, f.rows, lower);
+  // The decrease over two cast-on placeholders; then the old subtree goes in on one side, a
+  // new tree (or, below row 0, a cast-on stitch) on the other. A breadth-first tree has the
+  // root's children at 1 and 2.
+  Tree dec;
+  dec.nodes = {Node{false, pick(2, rng) == 0 ? Symbol::k2tog : Symbol::ssk, 1}, Node{true, Symbol::k, 0},
+               Node{true, Symbol::k, 0}};
+  const std::uint32_t kept = 1 + static_cast<std::uint32_t>(pick(2, rng));
+  dec = splice(dec, kept, tree, tree.nodes[lower].first_child);
+  if (row > 0) dec = splice(dec, kept == 1 ? 2 : 1, random_tree(row - 1, rng), 0);
+  return replace_tree(f, p.tree, splice(tree, lower, dec, 0));
+}
+
+Symbol mirrored_symbol(Symbol s) {
+  if (s == Symbol::k2tog) return Symbol::ssk;
+  if (s == Symbol::ssk) return Symbol::k2tog;
+  return s;
+}
+
+bool point_mutation(Forest& f, std::mt19937_64& rng) {
+  auto others = [](Symbol s) {
+    std::vector<Symbol> out;
+    for (Symbol o : kAllSymbols) {
+      if (o != s && consumes(o) == consumes(s)) out.push_back(o);
+    }
+    return out;
+  };
+  auto has_other = [&](std::size_t t, std::uint32_t i) {
+    const Node& node = f.trees[t].nodes[i];
+    return !node.cast_on && !others(node.symbol).empty();
+  };
+  const std::size_t n = count(f, has_other);
+  if (n == 0) return false;
+  const Place p = kth(f, pick(n, rng), has_other);
+  Node& node = f.trees[p.tree].nodes[p.node];
+  const std::vector<Symbol> choices = others(node.symbol);
+  node.symbol = choices[pick(choices.size(), rng)];
+  return true;
+}
+
+namespace {
+
+// The mirror image of a tree, laid out breadth first.
+Tree mirror_of(const Tree& src) {
+  Tree out;
+  out.nodes.reserve(src.nodes.size());
+  std::vector<std::uint32_t> queue{0};  // queue[k]: the src node that becomes out.nodes[k]
+  queue.reserve(src.nodes.size());
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    Node node = src.nodes[queue[k]];
+    const int n = children_of(node);
+    const std::uint32_t first = node.first_child;
+    node.symbol = mirrored_symbol(node.symbol);
+    node.first_child = n == 0 ? 0u : static_cast<std::uint32_t>(queue.size());
+    out.nodes.push_back(node);
+    for (int c = n - 1; c >= 0; --c) queue.push_back(first + static_cast<std::uint32_t>(c));
+  }
+  return out;
+}
+
+}  // namespace
+
+bool mirror_tree(Forest& f, std::mt19937_64& rng) {
+  const std::size_t n = f.trees.size();
+  if (n < 2) return false;
+  if (pick(2, rng) == 0) {
+    // The whole of one half over the other: every row becomes mirror-symmetric.
+    const bool right_to_left = pick(2, rng) == 0;
+    Forest out = f;
+    for (std::size_t t = 0; t < n / 2; ++t) {
+      const std::size_t from = right_to_left ? t : n - 1 - t, to = n - 1 - from;
+      out.trees[to] = mirror_of(f.trees[from]);
+    }
+    for (const Tree& tree : out.trees) {
+      if (has_cast_on(tree)) {
+        f = std::move(out);
+        return true;
+      }
+    }
+    return false;
+  }
+  std::size_t t = pick(n, rng);
+  if (t == n - 1 - t) t = (t + 1) % n;  // the middle tree of an odd width: a neighbour instead
+  return replace_tree(f, t, mirror_of(f.trees[n - 1 - t]));
+}
+
 bool swap_trees(Forest& f, std::mt19937_64& rng) {
   if (f.trees.size() < 2) return false;
   const std::size_t i = pick(f.trees.size(), rng);

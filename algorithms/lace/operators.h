@@ -38,6 +38,29 @@ bool flip_slant(Forest& f, std::mt19937_64& rng);
 // depth. False when no k stands on a decrease.
 bool lengthen_plain_run(Forest& f, std::mt19937_64& rng);
 
+// Shorten a run of plain stitches (the paper's "decreasing the length of plain stitches knit on
+// top of each other"), the inverse of lengthen_plain_run(): below a random plain stitch whose
+// one child is also plain, that child becomes a k2tog or ssk (even odds) worked over its old
+// child's subtree and a new random tree (random_tree(); a cast-on stitch below row 0) on a
+// random side. The run above is cut by one row. False when no k stands on a k.
+bool shorten_plain_run(Forest& f, std::mt19937_64& rng);
+
+// Point mutation (Koza; the paper's section 8): a random stitch whose symbol shares its number
+// of stitches worked over with another symbol (kAllSymbols, consumes()) gets one of those
+// others, its children untouched. The chart keeps every row's widths, so a feasible chart
+// stays feasible. False when no stitch has such a symbol.
+bool point_mutation(Forest& f, std::mt19937_64& rng);
+
+// Mirror symmetry (the paper's discussion): with even odds, either tree t is replaced by the
+// mirror image of tree n-1-t (children in reverse order, k2tog <-> ssk, mirrored_symbol()) for
+// a random t, or every tree of one half (random) by the mirror image of its partner in the
+// other half. A chart whose trees are all so paired has every row mirror-symmetric. False with
+// < 2 trees or when the copy would leave the forest on no cast-on stitch.
+bool mirror_tree(Forest& f, std::mt19937_64& rng);
+
+// The symbol seen in a mirror: k2tog <-> ssk, the others themselves.
+Symbol mirrored_symbol(Symbol s);
+
 // The paper's order change (section 3): two random trees change places. False with < 2 trees.
 bool swap_trees(Forest& f, std::mt19937_64& rng);
 

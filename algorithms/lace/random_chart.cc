@@ -109,4 +109,35 @@ Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng, bool carr
   return chart;
 }
 
+namespace {
+
+// One mirror-symmetric row (random_symmetric_chart()); a row whose yarn-overs meet in threes
+// (the halves' edge runs touch in the middle and across the repeat edge) is drawn again, at
+// most 100 times, then it is plain.
+Row symmetric_row(int width, std::mt19937_64& rng) {
+  const int half = width / 2;
+  for (int attempt = 0; attempt < 100 && half > 0; ++attempt) {
+    const Row right = random_feasible_chart(half, 1, rng).rows.front();
+    Row row = right;
+    if (width % 2 == 1) row.push_back(Symbol::k);
+    for (auto it = right.rbegin(); it != right.rend(); ++it) {
+      row.push_back(*it == Symbol::k2tog ? Symbol::ssk : *it == Symbol::ssk ? Symbol::k2tog : *it);
+    }
+    if (max_adjacent_yarn_overs(row, true) <= kMaxAdjacentYarnOvers) return row;
+  }
+  return Row(width, Symbol::k);
+}
+
+}  // namespace
+
+Chart random_symmetric_chart(int width, int rows, std::mt19937_64& rng) {
+  if (width < 1 || rows < 1) {
+    throw std::invalid_argument("lace: random_symmetric_chart: width and rows must be >= 1");
+  }
+  Chart chart;
+  chart.rows.reserve(rows);
+  for (int r = 0; r < rows; ++r) chart.rows.push_back(symmetric_row(width, rng));
+  return chart;
+}
+
 }  // namespace atelier::lace

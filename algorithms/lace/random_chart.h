@@ -35,4 +35,11 @@ Forest random_forest(int width, int rows, std::mt19937_64& rng);
 // stitch on top; see transfers.h). width >= 1, rows >= 1.
 Chart random_feasible_chart(int width, int rows, std::mt19937_64& rng, bool carriage_pairings = false);
 
+// As random_feasible_chart(), but every row mirror-symmetric (the discussion's symmetry): the
+// right half (first width / 2 stitches in knitting order) is strung from the same units, the
+// left half is its mirror image (k2tog <-> ssk, order reversed), an odd middle stitch is k.
+// Without carriage_pairings (a mirrored "k2tog, yo" is "yo, ssk", but "yo, k2tog" mirrors to
+// "ssk, yo", which a lace carriage cannot make). width >= 1, rows >= 1.
+Chart random_symmetric_chart(int width, int rows, std::mt19937_64& rng);
+
 }  // namespace atelier::lace

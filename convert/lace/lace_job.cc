@@ -84,7 +84,11 @@ lace::EvolveParams evolve_params(const LaceParams& params, const std::optional<L
   ep.rows = params.rows;
   ep.population = params.population;
   ep.generations = params.generations;
-  ep.weights = {params.holes, params.knit_length, params.depth, params.symmetry};
+  ep.weights = {params.holes,      params.knit_length, params.depth,        params.symmetry,
+                params.hole_lines, params.yo_band,     params.width_change, params.yo_share_min,
+                params.yo_share_max};
+  ep.target_score = params.target_score;
+  ep.stagnation = params.stagnation;
   ep.width_tolerance = params.width_tolerance;
   ep.seed = params.seed;
   // The defaults (tournament 4, 2 elites) need at least 5 individuals; population may be 2.

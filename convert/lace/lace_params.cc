@@ -25,6 +25,17 @@ LaceParams read_lace_params(const toml::table& table, const std::string& source)
   p.knit_length = r.get_double("knit_length", p.knit_length, 0, 1000);
   p.depth = r.get_double("depth", p.depth, 0, 1000);
   p.symmetry = r.get_double("symmetry", p.symmetry, 0, 1000);
+  p.hole_lines = r.get_double("hole_lines", p.hole_lines, 0, 1000);
+  p.yo_band = r.get_double("yo_band", p.yo_band, 0, 1000);
+  p.width_change = r.get_double("width_change", p.width_change, 0, 1000);
+  p.yo_share_min = r.get_double("yo_share_min", p.yo_share_min, 0, 1);
+  p.yo_share_max = r.get_double("yo_share_max", p.yo_share_max, 0, 1);
+  if (p.yo_share_min > p.yo_share_max) {
+    r.fail("yo_share_min", "must not be above yo_share_max (" + std::to_string(p.yo_share_max) + ")");
+  }
+  // 0 (the default) is no target: a chart that good is no reason to stop.
+  if (const double t = r.get_double("target_score", 0, 0, 1e6); t > 0) p.target_score = t;
+  p.stagnation = static_cast<int>(r.get_int("stagnation", p.stagnation, 0, 100000));
   p.width_tolerance = static_cast<int>(r.get_int("width_tolerance", p.width_tolerance, 0, 50));
   p.seed = static_cast<std::uint64_t>(r.get_int("seed", 1, 0, int64_t{1} << 53));
   if (r.has("start_chart")) {

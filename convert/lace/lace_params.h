@@ -5,8 +5,17 @@
 //   rows = 16 [1, 200]           right-side chart rows (the repeat is twice as many rows: each
 //                                is followed by a purled wrong-side row)
 //   population = 500 [2, 100000] generations = 200 [0, 100000]
-//   holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 0.5 [0, 1000]
+//   holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 1.0 [0, 1000]
 //                                the weights of the objectives (paper eq. 2; fitness.h)
+//   hole_lines = 3.0, yo_band = 50.0, width_change = 0.5 [0, 1000]
+//                                more weights of eq. 2: holes in lines (maximised), the distance
+//                                of the yarn-over share outside the band and the rows' width
+//                                change (both minimised)
+//   yo_share_min = 0.10, yo_share_max = 0.25 [0, 1]
+//                                the yarn-over share band (fractions of the cells; min <= max)
+//   target_score = 0 [0, 1e6]    stop once the best chart scores this much (0: no target)
+//   stagnation = 100 [0, 100000]  stop after this many generations without a better chart
+//                                (0: run all generations)
 //   width_tolerance = 2 [0, 50]  how far an intermediate row may be wider or narrower than the
 //                                cast-on, in stitches
 //   seed = 1 [0, 2^53]           same seed and parameters, same chart
@@ -40,7 +49,11 @@ struct LaceParams {
   int rows = 16;
   int population = 500;
   int generations = 200;
-  double holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 0.5;
+  double holes = 1.0, knit_length = 0.5, depth = 0.2, symmetry = 1.0;
+  double hole_lines = 3.0, yo_band = 50.0, width_change = 0.5;
+  double yo_share_min = 0.10, yo_share_max = 0.25;
+  std::optional<double> target_score;
+  int stagnation = 100;
   int width_tolerance = 2;
   std::uint64_t seed = 1;
   std::optional<std::filesystem::path> start_chart_file;  // resolved (absolute or cwd-relative)

@@ -5,6 +5,8 @@
 #include <algorithm>
 
 #include "algorithms/lace/chart.h"
+#include "algorithms/lace/fitness.h"
+#include "algorithms/lace/hole_lines.h"
 #include "drivers/ayab/lace_plan.h"
 
 namespace atelier {
@@ -34,6 +36,13 @@ nlohmann::json params_json(const LaceParams& p) {
                       {"knit_length", p.knit_length},
                       {"depth", p.depth},
                       {"symmetry", p.symmetry},
+                      {"hole_lines", p.hole_lines},
+                      {"yo_band", p.yo_band},
+                      {"width_change", p.width_change},
+                      {"yo_share_min", p.yo_share_min},
+                      {"yo_share_max", p.yo_share_max},
+                      {"target_score", p.target_score ? *p.target_score : 0.0},
+                      {"stagnation", p.stagnation},
                       {"width_tolerance", p.width_tolerance},
                       {"seed", p.seed},
                       {"lace_carriage", p.lace_carriage},
@@ -65,6 +74,22 @@ nlohmann::json machine_json(const lace::Chart& chart, int cast_on, const LacePar
           {"problems_total", plan.problems.size()},
           {"how", "per chart row: the lace carriage (parked left) transfers, then the knit "
                   "carriage knits the right-side row and the purl row"}};
+}
+
+// Does the chart read as a design (issue 22): how much of it is holes, whether the holes form
+// lines, how mirror-symmetric the repeat is, how long the plain runs are.
+nlohmann::json design_json(const lace::Chart& chart, int cast_on, const LaceParams& p) {
+  const lace::HoleLines h = lace::hole_lines(chart, cast_on);
+  const lace::Objectives o = lace::evaluate(chart, cast_on, lace::Weights{}, p.width_tolerance).objectives;
+  return {{"yo_share", h.yo_share},
+          {"yo_share_band", {p.yo_share_min, p.yo_share_max}},
+          {"yo_share_in_band", h.yo_share >= p.yo_share_min && h.yo_share <= p.yo_share_max},
+          {"hole_lines", h.hole_lines},
+          {"connectedness", h.connectedness},
+          {"holes", h.yarn_overs},
+          {"holes_in_lines", h.in_lines},
+          {"symmetry", o.symmetry},
+          {"knit_length", o.knit_length}};
 }
 
 }  // namespace
@@ -100,13 +125,21 @@ nlohmann::json lace_report_json(const ConvertRequest& req, const std::string& ti
         {"knit_length", ev.objectives.knit_length},
         {"depth", ev.objectives.depth},
         {"symmetry", ev.objectives.symmetry},
+        {"hole_lines", ev.objectives.hole_lines},
+        {"yo_band_distance", ev.objectives.yo_band_distance},
+        {"width_change", ev.objectives.width_change},
         {"weights",
          {{"holes", params.holes},
           {"knit_length", params.knit_length},
           {"depth", params.depth},
-          {"symmetry", params.symmetry}}}}},
+          {"symmetry", params.symmetry},
+          {"hole_lines", params.hole_lines},
+          {"yo_band", params.yo_band},
+          {"width_change", params.width_change}}}}},
+      {"design", design_json(chart, cast_on, params)},
       {"stitches", stitch_counts(chart)},
       {"generations", result.generations_run},
+      {"stopped_by", result.stopped_by},
       {"population", params.population},
       {"best_score", result.best_score},
       {"feasible_in_final_population", result.feasible_in_final_population},

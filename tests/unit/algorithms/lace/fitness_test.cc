@@ -22,8 +22,10 @@ TEST(LaceFitness, AllPlainChartHasNoHolesAndFullKnitLength) {
   EXPECT_DOUBLE_EQ(e.objectives.depth, 0.0);
   // No motif, so no symmetry to reward: plain knitting must not win on a trivial mirror.
   EXPECT_DOUBLE_EQ(e.objectives.symmetry, 0.0);
-  // Eq. 2 with the default weights: 0.5 * knit_length.
-  EXPECT_DOUBLE_EQ(e.score, 0.5);
+  // Eq. 2 with the default weights: 0.5 * knit_length, minus 50 * how far the yarn-over share
+  // (0) is below the band's 10 % (plain knitting is not lace).
+  EXPECT_DOUBLE_EQ(e.objectives.yo_band_distance, 0.10);
+  EXPECT_DOUBLE_EQ(e.score, 0.5 - 50 * 0.10);
 }
 
 TEST(LaceFitness, ThreeYarnOversSideBySideIsOneExcess) {
@@ -34,7 +36,8 @@ TEST(LaceFitness, ThreeYarnOversSideBySideIsOneExcess) {
   EXPECT_EQ(e.constraints.adjacent_yo_excess, 1);
   EXPECT_EQ(e.constraints.balance_error, 0);
   EXPECT_FALSE(e.constraints.ok());
-  EXPECT_LT(e.score, 0.0);  // worse than any feasible chart (whose score is >= 0)
+  // Worse than any feasible chart (whose score is >= -(yo_band + width_change)).
+  EXPECT_LT(e.score, -(Weights{}.yo_band + Weights{}.width_change));
 
   // Runs that meet across the repeat edge count: "yo, k2tog, k, k2tog, yo, yo" tiles to 3.
   const Chart wraps{{row({"yo", "k2tog", "k", "k2tog", "yo", "yo"})}};
@@ -92,6 +95,43 @@ TEST(LaceFitness, KnitLengthAndDepthFollowTheTrees) {
   // Trees (last-row stitches): the yo in row 1 is 3 rows below the root (reach 3), so is the
   // k2tog; the third tree is all plain (0). (3 + 3 + 0) / 3 / 4.
   EXPECT_DOUBLE_EQ(e.objectives.depth, 0.5);
+}
+
+TEST(LaceFitness, YarnOverShareOutsideTheBandIsMinimised) {
+  // 12 stitches, 4 rows. In the band: one "yo, k2tog" a row = 4 / 48 = 8 %, below 10 %.
+  const Row eyelet = cat({row({"yo", "k2tog"}), knit(10)});
+  const Chart sparse{{eyelet, eyelet, eyelet, eyelet}};
+  const Evaluation few = evaluate(sparse, 12, Weights{}, 2);
+  EXPECT_DOUBLE_EQ(few.objectives.yo_share, 4.0 / 48);
+  EXPECT_NEAR(few.objectives.yo_band_distance, 0.10 - 4.0 / 48, 1e-12);
+  // "yo, sk2p, yo" x 4 = 8 holes of 12 a row: 67 %, far above 25 %.
+  const Row mesh = row({"yo", "sk2p", "yo"}, 4);
+  const Chart dense{{mesh, mesh, mesh, mesh}};
+  const Evaluation many = evaluate(dense, 12, Weights{}, 2);
+  EXPECT_TRUE(many.constraints.ok());
+  EXPECT_NEAR(many.objectives.yo_band_distance, 8.0 / 12 - 0.25, 1e-12);
+  // Eq. 2's holes term alone prefers the mesh (that was the random-mesh look); with the band
+  // term the mesh scores below a chart in the band.
+  Weights holes_only{};
+  holes_only.yo_band = 0;
+  EXPECT_GT(evaluate(dense, 12, holes_only, 2).score, evaluate(sparse, 12, holes_only, 2).score);
+  const Row in_band = cat({knit(3), row({"yo", "k2tog", "k", "k", "ssk", "yo"}), knit(3)});  // 2 / 12 = 17 %
+  const Chart lace{{in_band, in_band, in_band, in_band}};
+  const Evaluation good = evaluate(lace, 12, Weights{}, 2);
+  EXPECT_DOUBLE_EQ(good.objectives.yo_band_distance, 0.0);
+  EXPECT_GT(good.score, many.score);
+  // Vertical lines of eyelets: every hole in a line.
+  EXPECT_DOUBLE_EQ(good.objectives.hole_lines, 1.0);
+  EXPECT_DOUBLE_EQ(good.objectives.symmetry, 1.0);
+}
+
+TEST(LaceFitness, WidthChangeIsMinimised) {
+  // Row 0 widens 6 -> 7 ("yo" added), row 1 narrows back: mean |width - 6| / 6 = 0.5 / 6.
+  const Chart wider{{row({"k", "k", "yo", "k", "k", "k", "k"}), row({"k", "k", "k2tog", "k", "k", "k"})}};
+  ASSERT_TRUE(knittable(wider, 6));
+  const Evaluation e = evaluate(wider, 6, Weights{}, 2);
+  EXPECT_TRUE(e.constraints.ok());
+  EXPECT_DOUBLE_EQ(e.objectives.width_change, (1.0 + 0.0) / 2 / 6);
 }
 
 }  // namespace

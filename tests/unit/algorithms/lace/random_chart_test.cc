@@ -27,5 +27,31 @@ TEST(LaceRandomChart, RowByRowChartsSatisfyTheConstraints) {
   }
 }
 
+TEST(LaceRandomChart, SymmetricChartsAreMirrorSymmetricAndFeasible) {
+  std::mt19937_64 rng(17);
+  int with_lace = 0;
+  for (int i = 0; i < 200; ++i) {
+    const int width = 1 + i % 15, rows = 1 + i % 7;
+    const Chart c = random_symmetric_chart(width, rows, rng);
+    ASSERT_EQ(static_cast<int>(c.rows.size()), rows);
+    const Evaluation e = evaluate(c, width, Weights{}, 0);
+    EXPECT_TRUE(e.constraints.ok()) << "chart " << i;
+    for (const Row& r : c.rows) {
+      ASSERT_EQ(static_cast<int>(r.size()), width);
+      for (int j = 0; j < width; ++j) {
+        const Symbol m = r[width - 1 - j];
+        const Symbol mirror = m == Symbol::k2tog ? Symbol::ssk : m == Symbol::ssk ? Symbol::k2tog : m;
+        ASSERT_EQ(r[j], mirror) << "chart " << i << " cell " << j;
+      }
+    }
+    if (e.objectives.holes > 0) {
+      ++with_lace;
+      EXPECT_DOUBLE_EQ(e.objectives.symmetry, 1.0);
+    }
+  }
+  EXPECT_GT(with_lace, 120);  // widths 1-3 are often plain
+  EXPECT_THROW(random_symmetric_chart(0, 3, rng), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace atelier::lace

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "algorithms/lace/hole_lines.h"
 #include "algorithms/lace/instructions.h"
 #include "convert/common/param_table.h"
 #include "convert/convert.h"
@@ -287,6 +288,43 @@ TEST_F(ConvertLaceTest, AWideSwatchGetsAPreviewOfBoundedSize) {
   EXPECT_EQ(big.report["preview"]["repeats_high"], 3);
   EXPECT_EQ(cv::imread((dir_ / "big" / "preview.png").string()).cols,
             120 * big.report["preview"]["stitch_px"].get<int>());
+}
+
+TEST_F(ConvertLaceTest, ReportSaysWhetherTheChartReadsAsADesign) {
+  // The defaults' band and lines at a quicker size: the design block holds the chart's figures.
+  run("kind = \"lace\"\npopulation = 200\ngenerations = 80\nseed = 2\n");
+  const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "out" / "report.json"));
+  ASSERT_TRUE(r.contains("design"));
+  const nlohmann::json& d = r["design"];
+  const lace::Chart chart = chart_of().chart;
+  const lace::HoleLines h = lace::hole_lines(chart, r["cast_on"].get<int>());
+  EXPECT_DOUBLE_EQ(d["yo_share"].get<double>(), h.yo_share);
+  EXPECT_EQ(d["holes"].get<long>(), h.yarn_overs);
+  EXPECT_EQ(d["holes_in_lines"].get<long>(), h.in_lines);
+  EXPECT_DOUBLE_EQ(d["hole_lines"].get<double>(), h.hole_lines);
+  EXPECT_EQ(d["yo_share_band"], nlohmann::json::array({0.10, 0.25}));
+  EXPECT_TRUE(d["yo_share_in_band"].get<bool>()) << d.dump();
+  EXPECT_GE(d["yo_share"].get<double>(), 0.10);
+  EXPECT_LE(d["yo_share"].get<double>(), 0.25);
+  EXPECT_GE(d["symmetry"].get<double>(), 0.0);
+  EXPECT_TRUE(r["stopped_by"] == "stagnation" || r["stopped_by"] == "generations") << r["stopped_by"];
+  EXPECT_EQ(r["params"]["stagnation"], 100);
+  EXPECT_EQ(r["fitness"]["weights"]["hole_lines"], 3.0);
+}
+
+TEST_F(ConvertLaceTest, DesignWeightsAreCheckedByKey) {
+  EXPECT_THAT(error_of(kQuick + "hole_lines = -1\n"), HasSubstr("hole_lines"));
+  EXPECT_THAT(error_of(kQuick + "yo_band = nan\n"), HasSubstr("yo_band"));
+  EXPECT_THAT(error_of(kQuick + "yo_share_min = 0.3\n"), HasSubstr("yo_share_min"));
+  EXPECT_THAT(error_of(kQuick + "stagnation = -2\n"), HasSubstr("stagnation"));
+  EXPECT_THAT(error_of(kQuick + "target_score = \"high\"\n"), HasSubstr("target_score"));
+  EXPECT_THAT(error_of(kQuick + "target_score = -1\n"), HasSubstr("target_score"));
+  // A target a first generation reaches stops at once (without the minimised terms every
+  // feasible chart with lace scores well above 0.01).
+  run(kQuick + "target_score = 0.01\nyo_band = 0\nwidth_change = 0\n");
+  const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "out" / "report.json"));
+  EXPECT_EQ(r["stopped_by"], "target_score");
+  EXPECT_EQ(r["generations"], 0);
 }
 
 }  // namespace
