@@ -1,6 +1,8 @@
 #include "algorithms/lace/transfers.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -201,6 +203,57 @@ LaceRowSchedule schedule_lace_row(const Row& row, int repeats, int chart_row, co
                            ") lie between a yarn-over and its decrease and each must be shifted one needle "
                            "per pass; move the yarn-over nearer to its decrease");
     out.passes.clear();
+  }
+  return out;
+}
+
+VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
+  VbedRowSchedule out;
+  std::vector<int> moving;
+  std::vector<int> home(static_cast<size_t>(t.produced), 0);  // loops in place on each target
+  for (int s = 0; s < t.consumed; ++s) {
+    const int o = t.target[static_cast<size_t>(s)];
+    if (o != s || t.layer[static_cast<size_t>(s)] > 0) {
+      moving.push_back(s);
+      if (std::abs(s - o) > max_rack) out.ok = false;
+    } else {
+      ++home[static_cast<size_t>(o)];  // stays at the bottom of its own stack
+    }
+  }
+  if (moving.empty() || !out.ok) return out;
+  out.passes.push_back({true, 0, moving});
+  std::vector<int> left = moving;
+  int rack = 0;
+  // Each round places >= 1 stitch (some stitch is always next in its stack), so at most
+  // moving.size() rounds.
+  while (!left.empty()) {
+    std::map<int, int> ready_at;  // offset -> ready stitches
+    for (int s : left) {
+      const int o = t.target[static_cast<size_t>(s)];
+      if (home[static_cast<size_t>(o)] == t.layer[static_cast<size_t>(s)]) ++ready_at[s - o];
+    }
+    if (ready_at.empty()) {
+      out.ok = false;  // a stack whose lower layer never arrives (not from row_transfers)
+      out.passes.clear();
+      return out;
+    }
+    // The racking that places the most stitches; ties: nearest the current racking.
+    int best = ready_at.begin()->first;
+    for (const auto& [d, n] : ready_at) {
+      const int bn = ready_at[best];
+      if (n > bn || (n == bn && std::abs(d - rack) < std::abs(best - rack))) best = d;
+    }
+    VbedPass pass{false, best, {}};
+    std::vector<int> rest;
+    for (int s : left) {
+      const int o = t.target[static_cast<size_t>(s)];
+      if (s - o == best && home[static_cast<size_t>(o)] == t.layer[static_cast<size_t>(s)]) pass.stitches.push_back(s);
+      else rest.push_back(s);
+    }
+    for (int s : pass.stitches) ++home[static_cast<size_t>(t.target[static_cast<size_t>(s)])];
+    out.passes.push_back(std::move(pass));
+    left = std::move(rest);
+    rack = best;
   }
   return out;
 }

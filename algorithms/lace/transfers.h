@@ -86,4 +86,26 @@ struct LaceRowSchedule {
 LaceRowSchedule schedule_lace_row(const Row& row, int repeats, int chart_row,
                                   const CarriageLimits& limits = {});
 
+// V-bed transfers of one row, grouped into few passes (the knitout writer's schedule).
+// Needles: stitch s of the row below sits on front needle right - s, its output stitch o on
+// right - o (knitting order runs leftwards), so a stitch moves s - o needles (> 0 rightwards).
+// One pass takes every stitch that must move (o != s, or it must lie on top of others on its
+// own needle) to the back bed at rack 0; then each back-to-front pass returns, at one racking
+// R = s - o (at rack R, b(x) faces f(x + R)), every stitch whose lower stack layers are home.
+// Stitches that stay on their needle at the bottom of their stack never move. Passes per row
+// <= 1 + distinct (offset, layer) pairs; the loop-level result is the stack order of
+// row_transfers. Bounded: each back-to-front pass places at least one stitch.
+struct VbedPass {
+  bool to_back = false;      // true: f(x) -> b(x) at rack 0; false: b -> f at `rack`
+  int rack = 0;
+  std::vector<int> stitches;  // consumed stitch indices moved in this pass
+};
+struct VbedRowSchedule {
+  std::vector<VbedPass> passes;  // empty when no stitch moves
+  // False when a stitch must move further than max_rack needles (or a stacking order cannot
+  // be met): the caller routes that row in hops instead.
+  bool ok = true;
+};
+VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack);
+
 }  // namespace atelier::lace

@@ -96,7 +96,22 @@ class Writer {
 };
 
 // The transfers of one row: stitch s of the row below on f(right - s) goes to f(right - o).
+// Grouped passes (schedule_vbed_row: all to the back at rack 0, then one pass per racking);
+// a row with a stitch moving further than the racking limit is routed stitch by stitch.
+void transfer_row_routed(Writer& w, const lace::RowTransfers& t, int right);
 void transfer_row(Writer& w, const lace::RowTransfers& t, int right) {
+  const lace::VbedRowSchedule plan = lace::schedule_vbed_row(t, kMaxRack);
+  if (!plan.ok) return transfer_row_routed(w, t, right);
+  for (const lace::VbedPass& pass : plan.passes)
+    for (int s : pass.stitches) {
+      const int from = right - s;
+      if (pass.to_back) w.xfer(true, from, from);
+      else w.xfer(false, from, right - t.target[static_cast<size_t>(s)]);  // racks to pass.rack
+    }
+  w.rack(0);
+}
+
+void transfer_row_routed(Writer& w, const lace::RowTransfers& t, int right) {
   std::vector<int> moving;  // consumed stitches that leave their needle for a while
   for (int s = 0; s < t.consumed; ++s) {
     const int o = t.target[static_cast<size_t>(s)];

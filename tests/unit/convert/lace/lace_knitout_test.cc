@@ -270,3 +270,49 @@ TEST(LaceKnitout, RefusesAChartThatCannotBeKnitted) {
 
 }  // namespace
 }  // namespace atelier
+
+namespace atelier {
+namespace {
+// [i22-knitout] Transfer passes of each chart row in lace.k: runs of xfers at one racking in
+// one direction (front to back or back to front).
+std::vector<int> transfer_passes_per_row(const std::string& k) {
+  std::vector<int> out;
+  std::istringstream in(k);
+  std::string line, last;
+  int rack = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("; row ", 0) == 0) {
+      out.push_back(0);
+      last.clear();
+    } else if (line.rfind("; bind-off", 0) == 0) {
+      break;
+    } else if (line.rfind("rack ", 0) == 0) {
+      rack = std::stoi(line.substr(5));
+    } else if (line.rfind("xfer ", 0) == 0 && !out.empty()) {
+      const std::string key = std::to_string(rack) + line.substr(5, 1);
+      if (key != last) ++out.back();
+      last = key;
+    } else if (line.rfind("knit ", 0) == 0) {
+      last.clear();
+    }
+  }
+  return out;
+}
+
+TEST(LaceKnitout, TransfersArePassesGroupedByRacking) {
+  const Chart chart = feather_and_fan_chart();
+  LaceKnitoutOptions o;
+  o.repeats_wide = 3;
+  o.repeats_high = 1;
+  const std::string k = make_lace_knitout(chart, 18, o);
+  const std::vector<int> passes = transfer_passes_per_row(k);
+  ASSERT_EQ(passes.size(), 2u);
+  EXPECT_EQ(passes[0], 0);
+  // (k2tog) x3 moves stitches 0..2 needles right, (yo, k1) x6 shifts up to 3: at most 7
+  // offsets; the pass to the back plus at most two passes per racking.
+  EXPECT_GE(passes[1], 2);
+  EXPECT_LE(passes[1], 1 + 2 * 7);
+  expect_fabric(chart, 18, 3, 2);
+}
+}  // namespace
+}  // namespace atelier
