@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -224,36 +223,39 @@ VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
   out.passes.push_back({true, 0, moving});
   std::vector<int> left = moving;
   int rack = 0;
-  // Each round places >= 1 stitch (some stitch is always next in its stack), so at most
-  // moving.size() rounds.
+  // Layer by layer (a layer-L stitch is ready once the layers below it are home), one pass per
+  // offset of that layer, nearest the current racking first; a pass also takes every other
+  // ready stitch of its offset. So passes <= 1 + distinct (offset, layer), and each round
+  // places the whole lowest remaining layer: at most 3 rounds (sk2p's stack is the tallest).
+  auto ready = [&](int s) {
+    return home[static_cast<size_t>(t.target[static_cast<size_t>(s)])] == t.layer[static_cast<size_t>(s)];
+  };
   while (!left.empty()) {
-    std::map<int, int> ready_at;  // offset -> ready stitches
-    for (int s : left) {
-      const int o = t.target[static_cast<size_t>(s)];
-      if (home[static_cast<size_t>(o)] == t.layer[static_cast<size_t>(s)]) ++ready_at[s - o];
+    int low = t.layer[static_cast<size_t>(left.front())];
+    for (int s : left) low = std::min(low, t.layer[static_cast<size_t>(s)]);
+    std::set<int> offsets;
+    for (int s : left)
+      if (t.layer[static_cast<size_t>(s)] == low) {
+        if (!ready(s)) {  // a stack whose lower layer never arrives (not from row_transfers)
+          out.ok = false;
+          out.passes.clear();
+          return out;
+        }
+        offsets.insert(s - t.target[static_cast<size_t>(s)]);
+      }
+    std::vector<int> order(offsets.begin(), offsets.end());
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return std::abs(a - rack) < std::abs(b - rack); });
+    for (int d : order) {
+      VbedPass pass{false, d, {}};
+      std::vector<int> rest;
+      for (int s : left) (s - t.target[static_cast<size_t>(s)] == d && ready(s) ? pass.stitches : rest).push_back(s);
+      if (pass.stitches.empty()) continue;  // taken by an earlier pass of this round
+      for (int s : pass.stitches) ++home[static_cast<size_t>(t.target[static_cast<size_t>(s)])];
+      out.passes.push_back(std::move(pass));
+      left = std::move(rest);
+      rack = d;
     }
-    if (ready_at.empty()) {
-      out.ok = false;  // a stack whose lower layer never arrives (not from row_transfers)
-      out.passes.clear();
-      return out;
-    }
-    // The racking that places the most stitches; ties: nearest the current racking.
-    int best = ready_at.begin()->first;
-    for (const auto& [d, n] : ready_at) {
-      const int bn = ready_at[best];
-      if (n > bn || (n == bn && std::abs(d - rack) < std::abs(best - rack))) best = d;
-    }
-    VbedPass pass{false, best, {}};
-    std::vector<int> rest;
-    for (int s : left) {
-      const int o = t.target[static_cast<size_t>(s)];
-      if (s - o == best && home[static_cast<size_t>(o)] == t.layer[static_cast<size_t>(s)]) pass.stitches.push_back(s);
-      else rest.push_back(s);
-    }
-    for (int s : pass.stitches) ++home[static_cast<size_t>(t.target[static_cast<size_t>(s)])];
-    out.passes.push_back(std::move(pass));
-    left = std::move(rest);
-    rack = best;
   }
   return out;
 }

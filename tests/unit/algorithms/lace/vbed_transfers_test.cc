@@ -103,7 +103,7 @@ TEST(VbedTransfers, RandomRowsEndInTheirStacksWithinTheBound) {
     expect_stacks(t, plan);
     EXPECT_LE(plan.passes.size(), pass_bound(t));
   }
-  EXPECT_GT(ok, 300);
+  EXPECT_GT(ok, 150);  // the rest move further than rack 4 (routed in hops)
 }
 
 }  // namespace
