@@ -210,19 +210,39 @@ VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
   VbedRowSchedule out;
   std::vector<int> moving;
   std::vector<int> home(static_cast<size_t>(t.produced), 0);  // loops in place on each target
+  // Per consumed stitch: the racking of its front-to-back (r1) and back-to-front (r2) transfer;
+  // r2 - r1 = its offset. Up to max_rack needles: r1 = 0; further (up to 2 x max_rack) it
+  // shifts on the way to the back too.
+  std::vector<int> r1(static_cast<size_t>(t.consumed), 0), r2(static_cast<size_t>(t.consumed), 0);
+  std::set<int> back_used;  // back needles, as -s - r1 (needle numbers relative to the right edge)
   for (int s = 0; s < t.consumed; ++s) {
     const int o = t.target[static_cast<size_t>(s)];
-    if (o != s || t.layer[static_cast<size_t>(s)] > 0) {
-      moving.push_back(s);
-      if (std::abs(s - o) > max_rack) out.ok = false;
-    } else {
+    if (o == s && t.layer[static_cast<size_t>(s)] == 0) {
       ++home[static_cast<size_t>(o)];  // stays at the bottom of its own stack
+      continue;
     }
+    moving.push_back(s);
+    const int d = s - o;
+    if (std::abs(d) > 2 * max_rack) out.ok = false;
+    r2[static_cast<size_t>(s)] = std::abs(d) <= max_rack ? d : (d > 0 ? max_rack : -max_rack);
+    r1[static_cast<size_t>(s)] = r2[static_cast<size_t>(s)] - d;
+    if (!back_used.insert(-s - r1[static_cast<size_t>(s)]).second) out.ok = false;  // two on one needle
   }
   if (moving.empty() || !out.ok) return out;
-  out.passes.push_back({true, 0, moving});
+  {
+    std::set<int> racks;
+    for (int s : moving) racks.insert(r1[static_cast<size_t>(s)]);
+    std::vector<int> order(racks.begin(), racks.end());
+    std::stable_sort(order.begin(), order.end(), [](int x, int y) { return std::abs(x) < std::abs(y); });
+    for (int r : order) {
+      VbedPass pass{true, r, {}};
+      for (int s : moving)
+        if (r1[static_cast<size_t>(s)] == r) pass.stitches.push_back(s);
+      out.passes.push_back(std::move(pass));
+    }
+  }
   std::vector<int> left = moving;
-  int rack = 0;
+  int rack = out.passes.back().rack;
   // Layer by layer (a layer-L stitch is ready once the layers below it are home), one pass per
   // offset of that layer, nearest the current racking first; a pass also takes every other
   // ready stitch of its offset. So passes <= 1 + distinct (offset, layer), and each round
@@ -241,7 +261,7 @@ VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
           out.passes.clear();
           return out;
         }
-        offsets.insert(s - t.target[static_cast<size_t>(s)]);
+        offsets.insert(r2[static_cast<size_t>(s)]);
       }
     std::vector<int> order(offsets.begin(), offsets.end());
     std::stable_sort(order.begin(), order.end(),
@@ -249,7 +269,7 @@ VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
     for (int d : order) {
       VbedPass pass{false, d, {}};
       std::vector<int> rest;
-      for (int s : left) (s - t.target[static_cast<size_t>(s)] == d && ready(s) ? pass.stitches : rest).push_back(s);
+      for (int s : left) (r2[static_cast<size_t>(s)] == d && ready(s) ? pass.stitches : rest).push_back(s);
       if (pass.stitches.empty()) continue;  // taken by an earlier pass of this round
       for (int s : pass.stitches) ++home[static_cast<size_t>(t.target[static_cast<size_t>(s)])];
       out.passes.push_back(std::move(pass));

@@ -102,11 +102,16 @@ void transfer_row_routed(Writer& w, const lace::RowTransfers& t, int right);
 void transfer_row(Writer& w, const lace::RowTransfers& t, int right) {
   const lace::VbedRowSchedule plan = lace::schedule_vbed_row(t, kMaxRack);
   if (!plan.ok) return transfer_row_routed(w, t, right);
+  std::vector<int> on_back(static_cast<size_t>(t.consumed), 0);  // back needle of each stitch
   for (const lace::VbedPass& pass : plan.passes)
     for (int s : pass.stitches) {
-      const int from = right - s;
-      if (pass.to_back) w.xfer(true, from, from);
-      else w.xfer(false, from, right - t.target[static_cast<size_t>(s)]);  // racks to pass.rack
+      if (pass.to_back) {
+        const int from = right - s;
+        on_back[static_cast<size_t>(s)] = from - pass.rack;
+        w.xfer(true, from, from - pass.rack);  // racks to pass.rack
+      } else {
+        w.xfer(false, on_back[static_cast<size_t>(s)], right - t.target[static_cast<size_t>(s)]);
+      }
     }
   w.rack(0);
 }

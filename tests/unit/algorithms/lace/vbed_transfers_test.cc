@@ -18,14 +18,19 @@ using test::row;
 
 constexpr int kMaxRack = 4;
 
-// The bound: the pass to the back, then one pass per (offset, layer) of the moving stitches.
+// The bound: one pass to the back per racking r1 (0, or the shift of a stitch moving more
+// than 4 needles), then one pass per (r2, layer) of the moving stitches (r2 - r1 = offset).
 size_t pass_bound(const RowTransfers& t) {
+  std::set<int> r1s;
   std::set<std::pair<int, int>> groups;
   for (int s = 0; s < t.consumed; ++s) {
-    const int o = t.target[static_cast<size_t>(s)];
-    if (o != s || t.layer[static_cast<size_t>(s)] > 0) groups.insert({s - o, t.layer[static_cast<size_t>(s)]});
+    const int o = t.target[static_cast<size_t>(s)], d = s - o, layer = t.layer[static_cast<size_t>(s)];
+    if (o == s && layer == 0) continue;
+    const int r2 = std::abs(d) <= kMaxRack ? d : (d > 0 ? kMaxRack : -kMaxRack);
+    r1s.insert(r2 - d);
+    groups.insert({r2, layer});
   }
-  return groups.empty() ? 0 : 1 + groups.size();
+  return r1s.size() + groups.size();
 }
 
 // Loop-level reading of the schedule on needles numbered as the header says (right - s):
@@ -34,22 +39,28 @@ void expect_stacks(const RowTransfers& t, const VbedRowSchedule& plan) {
   const int right = 1000;
   std::map<int, std::vector<int>> front, back;
   for (int s = 0; s < t.consumed; ++s) front[right - s] = {s};
+  std::map<int, int> on_back;  // stitch -> back needle
   for (const VbedPass& p : plan.passes) {
     EXPECT_LE(std::abs(p.rack), kMaxRack);
     std::set<int> used;
     for (int s : p.stitches) {
       EXPECT_TRUE(used.insert(s).second) << "a stitch twice in one pass";
-      const int x = right - s;
       if (p.to_back) {
+        const int x = right - s;
         ASSERT_FALSE(front[x].empty());
-        back[x] = front[x];
+        const int y = x - p.rack;  // at rack R, f(x) faces b(x - R)
+        ASSERT_TRUE(back[y].empty()) << "two stitches on b" << y;
+        back[y] = front[x];
         front[x].clear();
+        on_back[s] = y;
       } else {
-        ASSERT_FALSE(back[x].empty()) << "stitch " << s << " is not on the back";
-        const int to = x + p.rack;  // at rack R, b(x) faces f(x + R)
+        ASSERT_TRUE(on_back.count(s)) << "stitch " << s << " is not on the back";
+        const int y = on_back[s];
+        ASSERT_FALSE(back[y].empty());
+        const int to = y + p.rack;  // b(y) faces f(y + R)
         EXPECT_EQ(to, right - t.target[static_cast<size_t>(s)]);
-        front[to].insert(front[to].end(), back[x].begin(), back[x].end());
-        back[x].clear();
+        front[to].insert(front[to].end(), back[y].begin(), back[y].end());
+        back[y].clear();
       }
     }
   }
@@ -96,14 +107,14 @@ TEST(VbedTransfers, RandomRowsEndInTheirStacksWithinTheBound) {
     const RowTransfers t = row_transfers(r);
     const VbedRowSchedule plan = schedule_vbed_row(t, kMaxRack);
     bool far = false;
-    for (int s = 0; s < t.consumed; ++s) far = far || std::abs(s - t.target[static_cast<size_t>(s)]) > kMaxRack;
-    EXPECT_EQ(plan.ok, !far);
+    for (int s = 0; s < t.consumed; ++s) far = far || std::abs(s - t.target[static_cast<size_t>(s)]) > 2 * kMaxRack;
+    if (far) EXPECT_FALSE(plan.ok);
     if (!plan.ok) continue;
     ++ok;
     expect_stacks(t, plan);
     EXPECT_LE(plan.passes.size(), pass_bound(t));
   }
-  EXPECT_GT(ok, 150);  // the rest move further than rack 4 (routed in hops)
+  EXPECT_GT(ok, 200);  // the rest move further than 8 needles or share a back needle (routed in hops)
 }
 
 }  // namespace
