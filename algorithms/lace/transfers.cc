@@ -215,6 +215,7 @@ VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
   // shifts on the way to the back too.
   std::vector<int> r1(static_cast<size_t>(t.consumed), 0), r2(static_cast<size_t>(t.consumed), 0);
   std::set<int> back_used;  // back needles, as -s - r1 (needle numbers relative to the right edge)
+  std::vector<int> far;  // stitches moving more than max_rack needles: placed after the near ones
   for (int s = 0; s < t.consumed; ++s) {
     const int o = t.target[static_cast<size_t>(s)];
     if (o == s && t.layer[static_cast<size_t>(s)] == 0) {
@@ -224,9 +225,29 @@ VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
     moving.push_back(s);
     const int d = s - o;
     if (std::abs(d) > 2 * max_rack) out.ok = false;
-    r2[static_cast<size_t>(s)] = std::abs(d) <= max_rack ? d : (d > 0 ? max_rack : -max_rack);
-    r1[static_cast<size_t>(s)] = r2[static_cast<size_t>(s)] - d;
-    if (!back_used.insert(-s - r1[static_cast<size_t>(s)]).second) out.ok = false;  // two on one needle
+    if (std::abs(d) > max_rack) {
+      far.push_back(s);
+      continue;
+    }
+    r2[static_cast<size_t>(s)] = d;
+    back_used.insert(-s);  // distinct: one stitch per front needle
+  }
+  // A far stitch takes the first free back needle among the rackings that reach (|r1|, |r2| <=
+  // max_rack, r2 - r1 = d), largest r2 first. Bounded: <= 2 x max_rack + 1 tries each.
+  for (int s : far) {
+    if (!out.ok) break;
+    const int d = s - t.target[static_cast<size_t>(s)];
+    const int sign = d > 0 ? 1 : -1;
+    bool placed = false;
+    for (int a = max_rack; a >= std::abs(d) - max_rack && !placed; --a) {
+      const int rr2 = sign * a, rr1 = rr2 - d;
+      if (std::abs(rr1) > max_rack || back_used.count(-s - rr1)) continue;
+      back_used.insert(-s - rr1);
+      r1[static_cast<size_t>(s)] = rr1;
+      r2[static_cast<size_t>(s)] = rr2;
+      placed = true;
+    }
+    if (!placed) out.ok = false;  // every reachable back needle is taken
   }
   if (moving.empty() || !out.ok) return out;
   {
