@@ -64,6 +64,23 @@ std::optional<double> estimated_seconds(const nlohmann::json& report) {
   return std::nullopt;
 }
 
+std::vector<std::string> report_warnings(const nlohmann::json& report) {
+  std::vector<std::string> out;
+  if (!report.is_object()) return out;
+  const auto it = report.find("warnings");
+  if (it == report.end() || !it->is_array()) return out;
+  for (const auto& w : *it)
+    if (w.is_string()) out.push_back(w.get<std::string>());
+  return out;
+}
+
+std::string converted_reason(const std::string& base, const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return base;
+  std::string out = base + "; warning: " + warnings.front();
+  if (warnings.size() > 1) out += " (and " + std::to_string(warnings.size() - 1) + " more: atelierctl show)";
+  return out;
+}
+
 nlohmann::json events_to_json(const std::vector<JobEvent>& events) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& e : events)

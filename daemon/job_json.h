@@ -26,6 +26,15 @@ nlohmann::json job_to_json(const Job& job);
 // nullopt when the report has none (a job no laser runs).
 std::optional<double> estimated_seconds(const nlohmann::json& report);
 
+// [i22-knitout] The warnings a converter put in a job's report.json ("warnings": strings it
+// wants the user to read before the job goes to a machine, e.g. "not knittable as is: ...");
+// empty when the report has none or is not an object.
+std::vector<std::string> report_warnings(const nlohmann::json& report);
+
+// The job's reason when its conversion finished: `base` ("converted; waiting for knitter"),
+// then the first warning and how many more `atelierctl show` lists.
+std::string converted_reason(const std::string& base, const std::vector<std::string>& warnings);
+
 nlohmann::json events_to_json(const std::vector<JobEvent>& events);
 
 }  // namespace atelier

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "base/error.h"
@@ -54,6 +55,22 @@ class CannotPlan : public BadInput {
  public:
   using BadInput::BadInput;
 };
+
+// [i22-knitout] Why a knit job's report says it is not knittable as is ("" when it is, or
+// when the report predates "knittable"): an incomplete solution (solver "none", random-walk)
+// holds floats longer than the limit, and the machine is not sent it.
+std::string not_knittable_reason(const fs::path& output_dir) {
+  std::ifstream in(output_dir / "report.json");
+  if (!in) return "";
+  std::ostringstream text;
+  text << in.rdbuf();
+  const nlohmann::json r = nlohmann::json::parse(text.str(), nullptr, false);
+  if (!r.is_object() || !r.contains("knittable") || r["knittable"] != false) return "";
+  if (const auto w = r.find("warnings"); w != r.end() && w->is_array())
+    for (const auto& line : *w)
+      if (line.is_string() && line.get<std::string>().rfind("not knittable", 0) == 0) return line.get<std::string>();
+  return "not knittable as is (report.json: knittable false)";
+}
 
 // What the knitting machine is fed for a job of `kind`: a lace chart or a stitch pattern.
 // BadInput for a kind no knitting machine knits.
@@ -183,6 +200,8 @@ KnitDevice::JobPlan KnitDevice::plan_job(const Job& job, std::optional<int> star
     for (size_t p = 0; p < rows.size(); ++p)
       if (p == 0 || rows[p] != rows[p - 1]) out.row_start.push_back(static_cast<int>(p));
   } else {
+    if (const std::string why = not_knittable_reason(job.output_dir); !why.empty())
+      throw CannotKnit("refused: " + why + "; convert it again with a complete solver");
     const fs::path file = fs::path(job.output_dir) / kind.machine_file;
     cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
     if (image.empty()) throw BadInput(file.string() + " cannot be read");

@@ -1,9 +1,12 @@
 #include "daemon/scheduler.h"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "convert/kinds.h"
+#include "convert/report_file.h"
+#include "daemon/job_json.h"
 #include "daemon/job_log.h"
 #include "daemon/job_sets.h"
 #include "daemon/log.h"
@@ -213,12 +216,19 @@ void Scheduler::convert_one(int64_t id) {
     case ConversionOutcome::Status::ok:
       for (const Job& j : batch) {
         const std::string device = waiting_for_ ? waiting_for_(j) : "";
+        // [i22-knitout] The report's warnings go in the job's reason, before it goes to a machine.
+        std::vector<std::string> warnings;
+        {
+          std::ifstream report(std::filesystem::path(j.work_dir) / report_file_name());
+          warnings = report_warnings(nlohmann::json::parse(report, nullptr, false));
+        }
         if (device.empty()) {
           jobs_.store().set_progress(j.id, 100, 100);
-          jobs_.finish_converted(j.id, JobState::completed, "converted; no device for kind " + j.kind);
+          jobs_.finish_converted(j.id, JobState::completed,
+                                 converted_reason("converted; no device for kind " + j.kind, warnings));
         } else {
           jobs_.store().set_progress(j.id, 0, 0);  // from here progress counts the device's rows
-          jobs_.finish_converted(j.id, JobState::ready, "converted; waiting for " + device);
+          jobs_.finish_converted(j.id, JobState::ready, converted_reason("converted; waiting for " + device, warnings));
         }
       }
       if (on_ready_) on_ready_();

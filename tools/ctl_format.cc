@@ -225,7 +225,12 @@ std::string format_job_details(const json& job) {
   std::string out = scalar_lines(job,
                                  {"id", "kind", "name", "state", "reason", "device", "progress",
                                   "time_left_s", "estimated_s", "created", "updated", "output_dir"},
-                                 {"outputs", "history"});
+                                 {"outputs", "history", "warnings"});
+  // [i22-knitout] The converter's warnings, one line each, before the outputs.
+  if (job.contains("warnings") && job["warnings"].is_array() && !job["warnings"].empty()) {
+    out += "warnings:\n";
+    for (const json& w : job["warnings"]) out += "  " + (w.is_string() ? w.get<std::string>() : dump(w)) + "\n";
+  }
   if (job.contains("outputs")) {
     const json& outputs = job["outputs"];
     if (!outputs.is_array() || outputs.empty()) {

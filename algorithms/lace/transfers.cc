@@ -1,6 +1,7 @@
 #include "algorithms/lace/transfers.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 
@@ -202,6 +203,101 @@ LaceRowSchedule schedule_lace_row(const Row& row, int repeats, int chart_row, co
                            ") lie between a yarn-over and its decrease and each must be shifted one needle "
                            "per pass; move the yarn-over nearer to its decrease");
     out.passes.clear();
+  }
+  return out;
+}
+
+VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
+  VbedRowSchedule out;
+  std::vector<int> moving;
+  std::vector<int> home(static_cast<size_t>(t.produced), 0);  // loops in place on each target
+  // Per consumed stitch: the racking of its front-to-back (r1) and back-to-front (r2) transfer;
+  // r2 - r1 = its offset. Up to max_rack needles: r1 = 0; further (up to 2 x max_rack) it
+  // shifts on the way to the back too.
+  std::vector<int> r1(static_cast<size_t>(t.consumed), 0), r2(static_cast<size_t>(t.consumed), 0);
+  std::set<int> back_used;  // back needles, as -s - r1 (needle numbers relative to the right edge)
+  std::vector<int> far;  // stitches moving more than max_rack needles: placed after the near ones
+  for (int s = 0; s < t.consumed; ++s) {
+    const int o = t.target[static_cast<size_t>(s)];
+    if (o == s && t.layer[static_cast<size_t>(s)] == 0) {
+      ++home[static_cast<size_t>(o)];  // stays at the bottom of its own stack
+      continue;
+    }
+    moving.push_back(s);
+    const int d = s - o;
+    if (std::abs(d) > 2 * max_rack) out.ok = false;
+    if (std::abs(d) > max_rack) {
+      far.push_back(s);
+      continue;
+    }
+    r2[static_cast<size_t>(s)] = d;
+    back_used.insert(-s);  // distinct: one stitch per front needle
+  }
+  // A far stitch takes the first free back needle among the rackings that reach (|r1|, |r2| <=
+  // max_rack, r2 - r1 = d), largest r2 first. Bounded: <= 2 x max_rack + 1 tries each.
+  for (int s : far) {
+    if (!out.ok) break;
+    const int d = s - t.target[static_cast<size_t>(s)];
+    const int sign = d > 0 ? 1 : -1;
+    bool placed = false;
+    for (int a = max_rack; a >= std::abs(d) - max_rack && !placed; --a) {
+      const int rr2 = sign * a, rr1 = rr2 - d;
+      if (std::abs(rr1) > max_rack || back_used.count(-s - rr1)) continue;
+      back_used.insert(-s - rr1);
+      r1[static_cast<size_t>(s)] = rr1;
+      r2[static_cast<size_t>(s)] = rr2;
+      placed = true;
+    }
+    if (!placed) out.ok = false;  // every reachable back needle is taken
+  }
+  if (moving.empty() || !out.ok) return out;
+  {
+    std::set<int> racks;
+    for (int s : moving) racks.insert(r1[static_cast<size_t>(s)]);
+    std::vector<int> order(racks.begin(), racks.end());
+    std::stable_sort(order.begin(), order.end(), [](int x, int y) { return std::abs(x) < std::abs(y); });
+    for (int r : order) {
+      VbedPass pass{true, r, {}};
+      for (int s : moving)
+        if (r1[static_cast<size_t>(s)] == r) pass.stitches.push_back(s);
+      out.passes.push_back(std::move(pass));
+    }
+  }
+  std::vector<int> left = moving;
+  int rack = out.passes.back().rack;
+  // Layer by layer (a layer-L stitch is ready once the layers below it are home), one pass per
+  // offset of that layer, nearest the current racking first; a pass also takes every other
+  // ready stitch of its offset. So passes <= 1 + distinct (offset, layer), and each round
+  // places the whole lowest remaining layer: at most 3 rounds (sk2p's stack is the tallest).
+  auto ready = [&](int s) {
+    return home[static_cast<size_t>(t.target[static_cast<size_t>(s)])] == t.layer[static_cast<size_t>(s)];
+  };
+  while (!left.empty()) {
+    int low = t.layer[static_cast<size_t>(left.front())];
+    for (int s : left) low = std::min(low, t.layer[static_cast<size_t>(s)]);
+    std::set<int> offsets;
+    for (int s : left)
+      if (t.layer[static_cast<size_t>(s)] == low) {
+        if (!ready(s)) {  // a stack whose lower layer never arrives (not from row_transfers)
+          out.ok = false;
+          out.passes.clear();
+          return out;
+        }
+        offsets.insert(r2[static_cast<size_t>(s)]);
+      }
+    std::vector<int> order(offsets.begin(), offsets.end());
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return std::abs(a - rack) < std::abs(b - rack); });
+    for (int d : order) {
+      VbedPass pass{false, d, {}};
+      std::vector<int> rest;
+      for (int s : left) (r2[static_cast<size_t>(s)] == d && ready(s) ? pass.stitches : rest).push_back(s);
+      if (pass.stitches.empty()) continue;  // taken by an earlier pass of this round
+      for (int s : pass.stitches) ++home[static_cast<size_t>(t.target[static_cast<size_t>(s)])];
+      out.passes.push_back(std::move(pass));
+      left = std::move(rest);
+      rack = d;
+    }
   }
   return out;
 }

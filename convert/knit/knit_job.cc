@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <string>
+#include <vector>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -168,7 +170,24 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   timer.done("chart_pdf");
   report_progress(req, 0.95);
 
+  // [i22-knitout] What pattern.k holds: both yarns cross every row, so every run of a colour
+  // is a float, edges and relaxed stitches included; an incomplete solution is said to be
+  // not knittable as is, in the file, report.json's warnings and to the knitting device.
+  const int knitout_float = knitout_longest_float(grid);
+  const bool knittable = stats.violations_after == 0;
+  std::vector<std::string> warnings;
+  if (!knittable)
+    warnings.push_back("not knittable as is: floats up to " + std::to_string(knitout_float) +
+                       " needles, limit " + std::to_string(p.max_float) + " (solver \"" + p.solver + "\" left " +
+                       std::to_string(stats.violations_after) +
+                       " violations); use solver = \"hybrid\" or \"gsat\"");
+  else if (knitout_float > p.max_float)
+    warnings.push_back("pattern.k carries both yarns across every row: floats up to " +
+                       std::to_string(knitout_float) + " needles at the row edges or in the relaxed area, limit " +
+                       std::to_string(p.max_float) + " (anchoring = false and relax_mask free them for hand knitting)");
+
   KnitoutOptions ko;
+  if (!knittable) ko.not_knittable = warnings.front().substr(std::string("not knittable as is: ").size());
   ko.stitches_per_10cm = p.stitches_per_10cm;
   ko.title = "atelier knit pattern from " + input_name;
   ko.first_row_top = p.first_row == "top";
@@ -223,10 +242,13 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   r["flips"] = stats.flips;
   r["random_walk_flips"] = stats.random_walk_flips;
   r["search_flips"] = stats.search_flips;
-  r["longest_float"] = longest;
+  r["longest_float"] = knitout_float;  // [i22-knitout] the float pattern.k holds
+  r["longest_constrained_float"] = longest;  // the solver's measure (free edge runs, relax excluded)
   r["max_float"] = p.max_float;
   r["solver"] = p.solver;
   r["complete"] = stats.violations_after == 0;
+  r["knittable"] = knittable;   // [i22-knitout] false: the knitting device refuses the job
+  r["warnings"] = warnings;     // [i22-knitout] shown by atelierctl show
   r["relaxed_stitches"] = relaxed;
   r["similarity"] = similarity;
   r["similarity_start"] = similarity_start;

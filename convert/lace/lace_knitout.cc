@@ -1,7 +1,7 @@
 #include "convert/lace/lace_knitout.h"
 
 #include <algorithm>
-#include <cstdio>
+#include <cmath>
 #include <deque>
 #include <map>
 #include <sstream>
@@ -96,7 +96,27 @@ class Writer {
 };
 
 // The transfers of one row: stitch s of the row below on f(right - s) goes to f(right - o).
+// Grouped passes (schedule_vbed_row: all to the back at rack 0, then one pass per racking);
+// a row with a stitch moving further than the racking limit is routed stitch by stitch.
+void transfer_row_routed(Writer& w, const lace::RowTransfers& t, int right);
 void transfer_row(Writer& w, const lace::RowTransfers& t, int right) {
+  const lace::VbedRowSchedule plan = lace::schedule_vbed_row(t, kMaxRack);
+  if (!plan.ok) return transfer_row_routed(w, t, right);
+  std::vector<int> on_back(static_cast<size_t>(t.consumed), 0);  // back needle of each stitch
+  for (const lace::VbedPass& pass : plan.passes)
+    for (int s : pass.stitches) {
+      if (pass.to_back) {
+        const int from = right - s;
+        on_back[static_cast<size_t>(s)] = from - pass.rack;
+        w.xfer(true, from, from - pass.rack);  // racks to pass.rack
+      } else {
+        w.xfer(false, on_back[static_cast<size_t>(s)], right - t.target[static_cast<size_t>(s)]);
+      }
+    }
+  w.rack(0);
+}
+
+void transfer_row_routed(Writer& w, const lace::RowTransfers& t, int right) {
   std::vector<int> moving;  // consumed stitches that leave their needle for a while
   for (int s = 0; s < t.consumed; ++s) {
     const int o = t.target[static_cast<size_t>(s)];
@@ -177,19 +197,19 @@ std::string make_lace_knitout(const lace::Chart& chart, int cast_on, const LaceK
   const int needles = right + kMaxRack;
 
   std::ostringstream out;
-  char gauge[32];
-  std::snprintf(gauge, sizeof gauge, "%.1f", o.stitches_per_10cm * 2.54 / 10.0);
   const int start_width = cast_on * o.repeats_wide;
+  // The knitout spec's headers only (Machine: an identifier the SWG backend knows; Gauge: an
+  // integer); the needle count the writer uses is a plain comment.
   out << ";!knitout-2\n"
-      << ";;Machine: generic V-bed flat knitting machine\n"
-      << ";;Gauge: " << gauge << "\n"
-      << ";;Width: " << needles << "\n"
+      << ";;Machine: SWG091N2\n"
+      << ";;Gauge: " << std::max(1, static_cast<int>(std::lround(o.stitches_per_10cm * 2.54 / 10.0))) << "\n"
       << ";;Carriers: 1\n"
       << ";;Position: Center\n"
       << "; " << one_line(o.title) << "\n"
       << "; lace, " << chart.rows.size() << " chart rows x " << o.repeats_high << ", " << cast_on
       << " stitches x " << o.repeats_wide << " repeats; stitches on the front bed, lace by transfers\n"
-      << "; needle f" << right << " = first stitch of each right-side row (its right edge)\n";
+      << "; needle f" << right << " = first stitch of each right-side row (its right edge); needles f1 to f"
+      << needles << " used\n";
 
   Writer w(out, needles);
   const int lo0 = right - start_width + 1;
@@ -212,8 +232,20 @@ std::string make_lace_knitout(const lace::Chart& chart, int cast_on, const LaceK
       w.knit_pass('+', lo, right);
     }
   }
-  out << "; end of lace: the work stays on the needles for binding off or waste yarn\n"
-      << "outhook 1\n";
+  // Chain bind-off leftwards from the right edge (the carrier is there after the wrong-side
+  // row): knit a needle, move its loop to the next needle on the left, knit that one; a short
+  // tail on the last needle, dropped once the yarn is out.
+  const int lo = right - (rows.empty() ? start_width : rows.back().produced) + 1;
+  out << "; bind-off (chain, leftwards)\n";
+  for (int x = right; x > lo; --x) {
+    out << "knit - f" << x << " 1\n";
+    w.xfer(true, x, x);
+    w.xfer(false, x, x - 1);
+    w.rack(0);
+  }
+  for (int t = 0; t < 4; ++t) out << "knit " << (t % 2 == 0 ? '-' : '+') << " f" << lo << " 1\n";
+  out << "outhook 1\n"
+      << "drop f" << lo << "\n";
   return out.str();
 }
 

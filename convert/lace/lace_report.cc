@@ -7,6 +7,7 @@
 #include "algorithms/lace/chart.h"
 #include "algorithms/lace/fitness.h"
 #include "algorithms/lace/hole_lines.h"
+#include "algorithms/lace/transfers.h"
 #include "drivers/ayab/lace_plan.h"
 
 namespace atelier {
@@ -92,6 +93,20 @@ nlohmann::json design_json(const lace::Chart& chart, int cast_on, const LacePara
           {"knit_length", o.knit_length}};
 }
 
+// What the user must hear before carrying the job to a machine: chart rows the
+// Brother lace carriage cannot make (transfers.h), said whatever lace_carriage is.
+std::vector<std::string> lace_warnings(const lace::Chart& chart, const LaceParams& p) {
+  int rows = 0;
+  for (const lace::Row& row : chart.rows)
+    if (!lace::schedule_lace_row(row, 1, 0).ok()) ++rows;
+  if (rows == 0) return {};
+  const std::string n = std::to_string(rows) + " of " + std::to_string(chart.rows.size()) + " chart rows";
+  if (!p.lace_carriage)
+    return {"this chart needs a V-bed / hand transfers: " + n +
+            " the lace carriage cannot make; use lace_carriage = true for the Brother lace carriage"};
+  return {"the lace carriage cannot make " + n + " of this chart (machine.problems in report.json)"};
+}
+
 }  // namespace
 
 nlohmann::json lace_report_json(const ConvertRequest& req, const std::string& title, const LaceParams& params,
@@ -148,6 +163,7 @@ nlohmann::json lace_report_json(const ConvertRequest& req, const std::string& ti
                    {"stitch_px", preview.stitch_px}}},
       {"params", params_json(params)},
       {"timings_s", {{"evolve", evolve_s}, {"outputs", outputs_s}}},
+      {"warnings", lace_warnings(chart, params)},  // [i22-knitout] shown by atelierctl show
   };
 }
 

@@ -4,6 +4,7 @@
 // knitted on, or, when it cannot be reset, a job that fails within seconds saying what to do.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <condition_variable>
 #include <fstream>
@@ -344,6 +345,33 @@ TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens)
       << job.reason;
   EXPECT_NE(job.reason.find("; 1 more in report.json"), std::string::npos) << job.reason;
   EXPECT_EQ(machine.opened(), 0);
+}
+
+// [i22-knitout] A knit job whose report says it is not knittable as is (an incomplete
+// solution: floats over the limit) fails before the port opens, with the report's reason.
+TEST(AyabKnitRefusal, AJobNotKnittableAsIsFailsWithTheReasonAndNothingIsSent) {
+  const std::string warning = "not knittable as is: floats up to 14 needles, limit 4 (solver \"none\" left 9 violations)";
+  JobOnDevice rig("knit", "pattern.png", JobState::ready, [&](const std::string& dir) {
+    cv::imwrite(dir + "/pattern.png", knit_pattern(3));
+    std::ofstream(dir + "/report.json") << nlohmann::json{{"kind", "knit"}, {"knittable", false},
+                                                          {"warnings", {warning}}}.dump();
+  });
+  test::SimulatedKnitter machine(rig.clock, 2);
+  const Job job = rig.run(machine);
+  EXPECT_EQ(job.state, JobState::failed);
+  EXPECT_EQ(job.reason, "refused: " + warning + "; convert it again with a complete solver");
+  EXPECT_EQ(machine.opened(), 0);
+}
+
+TEST(AyabKnitRefusal, AKnittableReportKnits) {
+  JobOnDevice rig("knit", "pattern.png", JobState::ready, [&](const std::string& dir) {
+    cv::imwrite(dir + "/pattern.png", knit_pattern(3));
+    std::ofstream(dir + "/report.json") << nlohmann::json{{"kind", "knit"}, {"knittable", true},
+                                                          {"warnings", nlohmann::json::array()}}.dump();
+  });
+  Boards boards{rig.clock};
+  const Job job = run_on(rig, boards.opener());
+  EXPECT_EQ(job.state, JobState::completed) << job.reason;
 }
 
 TEST(AyabLacePlanOnTheMachine, ALaceJobSendsEveryPlannedPass) {

@@ -50,6 +50,7 @@ class FakeRunner : public ConversionRunner {
     if (bad) return {ConversionOutcome::Status::failed, "wood.png: out of wood: needs 900 mm^2"};
     for (const auto& [input, output] : task.together) std::ofstream(output / "plan.json") << "{}";
     std::ofstream(task.output_dir / "plan.json") << "{}";
+    if (!report_.empty()) std::ofstream(task.output_dir / "report.json") << report_;
     return {ConversionOutcome::Status::ok, ""};
   }
   // Until `n` tasks have been seen and one is under way.
@@ -82,6 +83,11 @@ class FakeRunner : public ConversionRunner {
     std::lock_guard lock(mu_);
     bad_dirs_.insert(dir);
   }
+  // report.json each conversion writes (none when empty).
+  void write_report(const std::string& json) {
+    std::lock_guard lock(mu_);
+    report_ = json;
+  }
   std::vector<ConversionTask> tasks() {
     std::lock_guard lock(mu_);
     return tasks_;
@@ -97,6 +103,7 @@ class FakeRunner : public ConversionRunner {
   uint64_t looks_ = 0, ticked_ = 0;  // waits begun; the last one tick() moved the clock for
   bool released_ = false, fail_ = false;
   std::set<std::filesystem::path> bad_dirs_;
+  std::string report_;
 };
 
 struct Rig {
@@ -225,3 +232,20 @@ TEST(SchedulerBatch, AStoppedBatchIsQueuedAgainWholeAndRecovered) {
 }
 
 }  // namespace
+
+// [i22-knitout] A conversion's report.json warnings reach the job's reason when it is done,
+// before anyone carries the job to a machine.
+TEST(SchedulerWarnings, TheReportsWarningsAreInTheConvertedJobsReason) {
+  Rig rig;
+  rig.runner.write_report(
+      R"({"kind":"knit","knittable":false,"warnings":["not knittable as is: floats up to 14 needles, limit 4","second"]})");
+  const int64_t knit = rig.drop("knit", "k.png");
+  rig.scheduler.start(1);
+  ASSERT_TRUE(rig.runner.wait_tasks(1));
+  rig.runner.release();
+  ASSERT_TRUE(rig.wait_state(knit, JobState::completed));
+  EXPECT_EQ(rig.store.get(knit)->reason,
+            "converted; no device for kind knit; warning: not knittable as is: floats up to 14 needles, limit 4 "
+            "(and 1 more: atelierctl show)");
+  rig.scheduler.stop();
+}

@@ -36,6 +36,7 @@ struct KnitRun {
   };
   std::vector<Pass> passes;
   int loops_left = 0;
+  int loops_at_bind_off = -1;  // loops on the needles when "; bind-off" starts (-1: none)
 };
 
 // Interprets the file; any breach of the rules is a test failure.
@@ -46,7 +47,7 @@ KnitRun interpret(const std::string& k) {
   std::istringstream in(k);
   std::string line;
   int lineno = 0;
-  bool in_pass = false;
+  bool in_pass = false, binding = false;
   auto end_pass = [&] { in_pass = false; };
   std::map<int, int> made_through_count;  // loop id -> times knitted through
   while (std::getline(in, line)) {
@@ -54,6 +55,13 @@ KnitRun interpret(const std::string& k) {
     const std::string at = "line " + std::to_string(lineno) + ": " + line;
     if (line.rfind(";;", 0) == 0 || line.rfind(";!", 0) == 0) {
       run.headers.push_back(line);
+      continue;
+    }
+    if (line.rfind("; bind-off", 0) == 0) {  // the rows end; the chain bind-off follows
+      binding = true;
+      run.loops_at_bind_off = 0;
+      for (const auto& [x, loops] : front) run.loops_at_bind_off += static_cast<int>(loops.size());
+      for (const auto& [x, loops] : back) run.loops_at_bind_off += static_cast<int>(loops.size());
       continue;
     }
     if (line.empty() || line[0] == ';') continue;
@@ -97,6 +105,11 @@ KnitRun interpret(const std::string& k) {
       const int n = needle(spec, bed);
       EXPECT_EQ(bed, 'f') << "lace is knitted on the front bed: " << at;
       for (const auto& [x, loops] : back) EXPECT_TRUE(loops.empty()) << "loops left on b" << x << " at " << at;
+      if (binding) {  // binding off: knitted through once each, no fabric pass
+        for (int id : front[n]) ++made_through_count[id];
+        front[n] = {next_id++};
+        continue;
+      }
       if (!in_pass || run.passes.back().dir != dir[0]) {
         run.passes.push_back({dir[0], {}, {}});
         in_pass = true;
@@ -112,7 +125,13 @@ KnitRun interpret(const std::string& k) {
       for (int id : front[n]) ++made_through_count[id];
       front[n] = {next_id++};
     } else if (op == "drop") {
-      ADD_FAILURE() << "a loop is dropped: " << at;
+      std::string spec;
+      ls >> spec;
+      char bed;
+      const int n = needle(spec, bed);
+      if (!binding) ADD_FAILURE() << "a loop is dropped: " << at;
+      EXPECT_EQ(front[n].size(), 1u) << "the bind-off's last loop only: " << at;
+      front[n].clear();
     } else if (op == "inhook" || op == "releasehook" || op == "outhook" || op == "miss") {
       end_pass();
     } else {
@@ -160,20 +179,19 @@ void expect_fabric(const Chart& chart, int cast_on, int wide, int high) {
   const KnitRun run = interpret(k);
   ASSERT_EQ(run.passes.size(), 2 + 2 * chart.rows.size() * static_cast<size_t>(high));
   EXPECT_EQ(fabric_of(run), expected_fabric(chart, wide, high));
-  // Nothing was lost: what is left on the needles is the last row.
-  EXPECT_EQ(run.loops_left, static_cast<int>(run.passes.back().ids.size()));
+  // Nothing was lost: what is on the needles at the bind-off is the last row; the bind-off
+  // leaves nothing.
+  EXPECT_EQ(run.loops_at_bind_off, static_cast<int>(run.passes.back().ids.size()));
+  EXPECT_EQ(run.loops_left, 0);
 }
 
 TEST(LaceKnitout, HeaderLines) {
   const std::string k = make_lace_knitout(Chart{{row({"k2tog", "yo"})}}, 2, {});
   const KnitRun run = interpret(k);
-  ASSERT_FALSE(run.headers.empty());
-  EXPECT_EQ(run.headers[0], ";!knitout-2");
-  for (const char* h : {";;Machine:", ";;Gauge:", ";;Width:", ";;Carriers:", ";;Position:"}) {
-    bool found = false;
-    for (const auto& line : run.headers) found = found || line.rfind(h, 0) == 0;
-    EXPECT_TRUE(found) << h;
-  }
+  // The knitout spec's headers only, in the file's first lines (no ;;Width:, which is none).
+  EXPECT_EQ(run.headers, (std::vector<std::string>{";!knitout-2", ";;Machine: SWG091N2", ";;Gauge: 7",
+                                                   ";;Carriers: 1", ";;Position: Center"}));
+  EXPECT_EQ(k.rfind(";!knitout-2\n;;Machine: SWG091N2\n;;Gauge: 7\n;;Carriers: 1\n;;Position: Center\n", 0), 0u);
   for (const char* op : {"inhook 1", "releasehook 1", "outhook 1", "; row 1\n", "; row 3\n", "rack 1", "rack 0"})
     EXPECT_NE(k.find(op), std::string::npos) << op;
   EXPECT_EQ(k.find("; row 4\n"), std::string::npos);  // 1 chart row x 3 repeats high
@@ -185,7 +203,7 @@ TEST(LaceKnitout, ATitleWithLineBreaksStaysOneComment) {
   const std::string k = make_lace_knitout(Chart{{row({"k", "k"})}}, 2, o);
   EXPECT_NE(k.find("; swatch knit + f1 1 drop f2\n"), std::string::npos);
   EXPECT_EQ(k.find("\nknit + f1 1\n"), std::string::npos);
-  EXPECT_EQ(k.find("\ndrop"), std::string::npos);
+  EXPECT_EQ(k.find("\ndrop f2"), std::string::npos);
 }
 
 TEST(LaceKnitout, HandMadeChartsKnitTheirStitches) {
@@ -250,5 +268,51 @@ TEST(LaceKnitout, RefusesAChartThatCannotBeKnitted) {
   EXPECT_THROW(make_lace_knitout(Chart{{row({"k2tog", "yo"})}}, 2, o), std::invalid_argument);
 }
 
+}  // namespace
+}  // namespace atelier
+
+namespace atelier {
+namespace {
+// [i22-knitout] Transfer passes of each chart row in lace.k: runs of xfers at one racking in
+// one direction (front to back or back to front).
+std::vector<int> transfer_passes_per_row(const std::string& k) {
+  std::vector<int> out;
+  std::istringstream in(k);
+  std::string line, last;
+  int rack = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("; row ", 0) == 0) {
+      out.push_back(0);
+      last.clear();
+    } else if (line.rfind("; bind-off", 0) == 0) {
+      break;
+    } else if (line.rfind("rack ", 0) == 0) {
+      rack = std::stoi(line.substr(5));
+    } else if (line.rfind("xfer ", 0) == 0 && !out.empty()) {
+      const std::string key = std::to_string(rack) + line.substr(5, 1);
+      if (key != last) ++out.back();
+      last = key;
+    } else if (line.rfind("knit ", 0) == 0) {
+      last.clear();
+    }
+  }
+  return out;
+}
+
+TEST(LaceKnitout, TransfersArePassesGroupedByRacking) {
+  const Chart chart = feather_and_fan_chart();
+  LaceKnitoutOptions o;
+  o.repeats_wide = 3;
+  o.repeats_high = 1;
+  const std::string k = make_lace_knitout(chart, 18, o);
+  const std::vector<int> passes = transfer_passes_per_row(k);
+  ASSERT_EQ(passes.size(), 2u);
+  EXPECT_EQ(passes[0], 0);
+  // (k2tog) x3 moves stitches 0..2 needles right, (yo, k1) x6 shifts up to 3: at most 7
+  // offsets; the pass to the back plus at most two passes per racking.
+  EXPECT_GE(passes[1], 2);
+  EXPECT_LE(passes[1], 1 + 2 * 7);
+  expect_fabric(chart, 18, 3, 2);
+}
 }  // namespace
 }  // namespace atelier
