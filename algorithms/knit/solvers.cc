@@ -321,8 +321,10 @@ Solver solver_from_name(const std::string& name) {
   if (name == "gsat") return Solver::gsat;
   if (name == "hybrid") return Solver::hybrid;
   if (name == "texturing") return Solver::texturing;
-  throw std::invalid_argument("unknown solver \"" + name +
-                              "\" (none, random-walk, min-conflict, gsat, hybrid, texturing)");
+  if (name == "hybrid-texturing") return Solver::hybrid_texturing;
+  throw std::invalid_argument(
+      "unknown solver \"" + name +
+      "\" (none, random-walk, min-conflict, gsat, hybrid, texturing, hybrid-texturing)");
 }
 
 std::string solver_name(Solver s) {
@@ -333,18 +335,20 @@ std::string solver_name(Solver s) {
     case Solver::gsat: return "gsat";
     case Solver::hybrid: return "hybrid";
     case Solver::texturing: return "texturing";
+    case Solver::hybrid_texturing: return "hybrid-texturing";
   }
   throw std::invalid_argument("solver_name: invalid Solver value");
 }
 
 bool solver_is_complete(Solver s) {
   return s == Solver::min_conflict || s == Solver::gsat || s == Solver::hybrid ||
-         s == Solver::texturing;
+         s == Solver::texturing || s == Solver::hybrid_texturing;
 }
 
 SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& params) {
   detail::check_problem(grid, rules, "solve");
-  if (params.solver == Solver::random_walk || params.solver == Solver::hybrid)
+  if (params.solver == Solver::random_walk || params.solver == Solver::hybrid ||
+      params.solver == Solver::hybrid_texturing)
     check_random_walk(params);
   SolveStats stats;
   stats.violations_before = count_violations(grid, rules);
@@ -368,6 +372,10 @@ SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& par
       break;
     case Solver::texturing:
       stats.search_flips = run_texturing(grid, rules, rng, Progress(fn, 0, 1));
+      break;
+    case Solver::hybrid_texturing:
+      stats.random_walk_flips = run_random_walk(grid, rules, params, stats.violations_before, rng, Progress(fn, 0, 0.5));
+      stats.search_flips = run_texturing(grid, rules, rng, Progress(fn, 0.5, 1));
       break;
   }
   if (fn) fn(1.0);
