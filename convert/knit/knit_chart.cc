@@ -24,9 +24,10 @@ constexpr double kGutter = 9 * kMm;   // row numbers left and right of the grid
 constexpr double kHeader = 27 * kMm;  // title, details, page range, colour key
 constexpr double kFooter = 7 * kMm;   // stitch numbers under the grid
 
-constexpr double kMapLine = 3.3 * kMm;  // one page-map line
-constexpr int kMapEntriesPerLine = 8;
-constexpr int kMapMaxRowEntries = 2 * kMapEntriesPerLine;  // longer lists are shortened
+constexpr double kMapLine = 3.0 * kMm;  // one page-map line
+constexpr int kMapEntriesPerLine = 10;  // stitch ranges per line (fits 186 mm at 6 pt)
+constexpr int kMapRowsPerLine = 5;      // "rows 1-51 p.1-10" per line
+constexpr int kMapMaxRowEntries = 2 * kMapRowsPerLine;  // longer lists are shortened
 
 constexpr int kColsPerPage = static_cast<int>((kPageW - 2 * kMargin - 2 * kGutter) / kCell);
 constexpr int kRowsPerPageNoMap =
@@ -51,14 +52,13 @@ std::vector<std::pair<int, int>> even_bands(int n, int parts) {
 
 int page_columns(int stitches) { return ceil_div(stitches, kColsPerPage); }
 
-// Lines the page map takes (0 for one page): a heading line, the stitch list wrapped, the
-// row list wrapped. The map is under the header of every page so all pages hold as many
+// Lines the page map takes (0 for one page): the stitch list wrapped, the row list wrapped. The map is under the header of every page so all pages hold as many
 // rows; rows per page and map lines depend on each other, so settle it by iterating from
 // the map's largest size (bounded: at most a few steps).
 int map_lines_for(int column_bands, int row_bands) {
   if (column_bands * row_bands <= 1) return 0;
   const int row_entries = std::min(row_bands, kMapMaxRowEntries + 1);
-  return 1 + ceil_div(column_bands, kMapEntriesPerLine) + ceil_div(row_entries, kMapEntriesPerLine);
+  return ceil_div(column_bands, kMapEntriesPerLine) + ceil_div(row_entries, kMapRowsPerLine);
 }
 
 int rows_per_page(int map_lines) {
@@ -96,35 +96,26 @@ std::vector<std::string> page_map_lines(const Layout& l) {
   const int across = static_cast<int>(l.stitch_bands.size());
   const int down = static_cast<int>(l.row_bands.size());
   if (across * down <= 1) return lines;
-  lines.push_back("Page map (" + std::to_string(across * down) + " pages, bottom rows first, then right to left):");
-  auto wrap = [&lines](const std::string& lead, const std::vector<std::string>& entries) {
+  // `entries` joined by " | ", `per_line` to a line, the first line led by `lead`.
+  auto wrap = [&lines](const std::string& lead, const std::vector<std::string>& entries, int per_line) {
     std::string line = lead;
     for (size_t i = 0; i < entries.size(); ++i) {
-      if (i > 0 && i % kMapEntriesPerLine == 0) {
+      if (i > 0 && i % per_line == 0) {
         lines.push_back(line);
-        line = "    ";
+        line = "      ";
       }
-      line += (i % kMapEntriesPerLine == 0 ? "" : ",  ") + entries[i];
+      line += (i % per_line == 0 ? "" : "  |  ") + entries[i];
     }
     lines.push_back(line);
   };
   std::vector<std::string> cols;
-  if (down == 1) {
-    for (int c = 0; c < across; ++c)
-      cols.push_back("p." + std::to_string(c + 1) + " stitches " + range(l.stitch_bands[c]));
-    wrap("  ", cols);
-    lines.push_back("  all pages: rows " + range(l.row_bands[0]));
-    return lines;
-  }
-  cols.clear();
-  for (int c = 0; c < across; ++c)
-    cols.push_back("stitches " + range(l.stitch_bands[c]));
-  wrap("  page columns, right to left: ", cols);
+  for (int c = 0; c < across; ++c) cols.push_back(range(l.stitch_bands[c]));
+  wrap(across == 1 ? "Page map: every page stitches " : "Page map: stitches ", cols, kMapEntriesPerLine);
   std::vector<std::string> bands;
   auto band = [&](int r) {
     const int first = r * across + 1, last = first + across - 1;
-    return "rows " + range(l.row_bands[r]) + " p." +
-           (across == 1 ? std::to_string(first) : std::to_string(first) + "-" + std::to_string(last));
+    return "rows " + range(l.row_bands[r]) + (across == 1 ? " p." + std::to_string(first)
+                                                          : " p." + std::to_string(first) + "-" + std::to_string(last));
   };
   if (down <= kMapMaxRowEntries + 1) {
     for (int r = 0; r < down; ++r) bands.push_back(band(r));
@@ -133,7 +124,7 @@ std::vector<std::string> page_map_lines(const Layout& l) {
     bands.push_back("...");
     bands.push_back(band(down - 1));
   }
-  wrap("  page rows, bottom up: ", bands);
+  wrap("      ", bands, kMapRowsPerLine);
   return lines;
 }
 

@@ -61,12 +61,12 @@ TEST(KnitPreviewPng, FarApartRunsAndOneColourGrids) {
   }
 }
 
-// Tall stitches have more than 256 colours in their two tiles: no palette PNG (the caller
+// Large stitches have more than 256 colours in their two tiles: no palette PNG (the caller
 // encodes the render instead).
 TEST(KnitPreviewPng, TooManyColoursGivesNothing) {
   knit::PreviewStyle style;
-  style.stitch_px = 12;
-  style.stitch_aspect = 8.0;
+  style.stitch_px = 64;
+  style.stitch_aspect = 2.0;
   EXPECT_TRUE(encode_preview_png(knit::testing::random_grid(cv::Size(4, 4), 1), style).empty());
 }
 
