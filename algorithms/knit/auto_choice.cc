@@ -36,28 +36,58 @@ AutoResult choose_by_measurement(const cv::Mat& gray, const FloatRules& rules,
     for (Solver s : solvers) result.candidates.push_back(AutoCandidate{d, s});
   const size_t n = result.candidates.size();
 
-  // Workers take candidates by index; every candidate writes only its own slot. Each solve
-  // copies its start and seeds its own RNG, so the outcome is the same however they run.
+  // Work items: one candidate, or the two hybrids of one dither together (they share their
+  // Random Walk: solve_hybrids). Workers take items by index; every item writes only its
+  // own candidates' slots. Each solve copies its start and seeds its own RNG, so the outcome
+  // is the same however they run.
+  struct Item {
+    size_t first, second;  // candidate indices; second == n: a single candidate
+  };
+  std::vector<Item> items;
+  const auto at = [&](Solver s) {
+    return static_cast<size_t>(std::find(solvers.begin(), solvers.end(), s) - solvers.begin());
+  };
+  const size_t hy = at(Solver::hybrid), ht = at(Solver::hybrid_texturing);
+  const bool pair = hy < solvers.size() && ht < solvers.size();
+  for (size_t d = 0; d < dithers.size(); ++d)
+    for (size_t k = 0; k < solvers.size(); ++k) {
+      const size_t i = d * solvers.size() + k;
+      if (pair && k == ht) continue;  // done with its hybrid
+      items.push_back({i, pair && k == hy ? d * solvers.size() + ht : n});
+    }
   std::atomic<size_t> next{0};
   std::vector<std::string> errors(n);
+  auto record = [&](size_t i, const cv::Mat& grid, const SolveStats& st) {
+    AutoCandidate& c = result.candidates[i];
+    c.violations = st.violations_after;
+    c.flips = st.flips;
+    c.similarity = ssim(grid);
+  };
   auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < n;) {
+    for (size_t j; (j = next.fetch_add(1)) < items.size();) {
+      const Item& item = items[j];
       try {
-        AutoCandidate& c = result.candidates[i];
-        cv::Mat grid = starts[i / solvers.size()].clone();
+        const cv::Mat& start = starts[item.first / solvers.size()];
         SolverParams sp = params;
-        sp.solver = c.solver;
         sp.progress = nullptr;
-        const SolveStats st = solve(grid, rules, sp);
-        c.violations = st.violations_after;
-        c.flips = st.flips;
-        c.similarity = ssim(grid);
+        if (item.second < n) {
+          cv::Mat a, b;
+          SolveStats sa, sb;
+          solve_hybrids(start, rules, sp, a, sa, b, sb);
+          record(item.first, a, sa);
+          record(item.second, b, sb);
+        } else {
+          cv::Mat grid = start.clone();
+          sp.solver = result.candidates[item.first].solver;
+          const SolveStats st = solve(grid, rules, sp);
+          record(item.first, grid, st);
+        }
       } catch (const std::exception& e) {
-        errors[i] = e.what();
+        errors[item.first] = e.what();
       }
     }
   };
-  const int workers = std::clamp(threads, 1, static_cast<int>(n));
+  const int workers = std::clamp(threads, 1, static_cast<int>(items.size()));
   std::vector<std::thread> pool;
   for (int t = 1; t < workers; ++t) pool.emplace_back(work);
   work();

@@ -385,4 +385,29 @@ SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& par
   return stats;
 }
 
+void solve_hybrids(const cv::Mat& start, const FloatRules& rules, const SolverParams& params,
+                   cv::Mat& by_gsat, SolveStats& gsat_stats, cv::Mat& by_texturing,
+                   SolveStats& texturing_stats) {
+  detail::check_problem(start, rules, "solve");
+  check_random_walk(params);
+  const std::function<void(double)> quiet;
+  SolveStats walk;
+  walk.violations_before = count_violations(start, rules);
+  Rng rng(params.seed);  // as solve(): the walk draws first, the second phase continues
+  cv::Mat walked = start.clone();
+  walk.random_walk_flips = run_random_walk(walked, rules, params, walk.violations_before, rng, Progress(quiet, 0, 1));
+  Rng rng_texturing = rng;  // the same state for the other second phase
+  by_gsat = walked.clone();
+  by_texturing = walked;
+  gsat_stats = walk;
+  gsat_stats.search_flips = run_gsat(by_gsat, rules, rng, Progress(quiet, 0, 1));
+  texturing_stats = walk;
+  texturing_stats.search_flips = run_texturing(by_texturing, rules, rng_texturing, Progress(quiet, 0, 1));
+  for (auto [grid, stats] : {std::pair{&by_gsat, &gsat_stats}, std::pair{&by_texturing, &texturing_stats}}) {
+    stats->flips = stats->random_walk_flips + stats->search_flips;
+    stats->violations_after = count_violations(*grid, rules);
+    stats->complete = stats->violations_after == 0;
+  }
+}
+
 }  // namespace atelier::knit

@@ -57,4 +57,12 @@ struct SolveStats {
 
 SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& params);
 
+// Both hybrids from one Random Walk, their common first phase (the auto search runs both):
+// `by_gsat` ends as solve() with Solver::hybrid and `by_texturing` as with
+// Solver::hybrid_texturing would leave `start`, with the same params (params.solver and
+// progress are ignored). Same checks and exceptions as solve().
+void solve_hybrids(const cv::Mat& start, const FloatRules& rules, const SolverParams& params,
+                   cv::Mat& by_gsat, SolveStats& gsat_stats, cv::Mat& by_texturing,
+                   SolveStats& texturing_stats);
+
 }  // namespace atelier::knit

@@ -258,6 +258,28 @@ TEST(KnitSolvers, HybridTexturingRunsRandomWalkThenTexturing) {
   EXPECT_LT(a_tex, 0.45);
 }
 
+// The auto search solves both hybrids from one walk: the same grids and counts as solve().
+TEST(KnitSolvers, SolveHybridsEqualsSolvingEachHybrid) {
+  const cv::Mat start = real_grid("fruits.jpg", 150, Dither::floyd_steinberg);
+  FloatRules rules;
+  SolverParams params;
+  params.seed = 9;
+  cv::Mat a = start.clone(), b = start.clone(), ga, tb;
+  params.solver = Solver::hybrid;
+  const SolveStats sa = solve(a, rules, params);
+  params.solver = Solver::hybrid_texturing;
+  const SolveStats sb = solve(b, rules, params);
+  SolveStats sga, stb;
+  solve_hybrids(start, rules, params, ga, sga, tb, stb);
+  EXPECT_EQ(cv::countNonZero(a != ga), 0);
+  EXPECT_EQ(cv::countNonZero(b != tb), 0);
+  EXPECT_EQ(sa.flips, sga.flips);
+  EXPECT_EQ(sa.random_walk_flips, sga.random_walk_flips);
+  EXPECT_EQ(sb.search_flips, stb.search_flips);
+  EXPECT_EQ(sb.violations_before, stb.violations_before);
+  EXPECT_TRUE(sga.complete && stb.complete);
+}
+
 TEST(KnitSolvers, SameSeedSameGridDifferentSeedDifferentGrid) {
   const cv::Mat start = real_grid("starry_night.jpg", 120, Dither::floyd_steinberg);
   FloatRules rules;
