@@ -1,5 +1,7 @@
 // Knit benchmarks: every dither and every solver on grids made from a real painting
-// (tests/data/starry_night.jpg) at the paper's 363x255 and at 2000x2000.
+// (tests/data/starry_night.jpg) at the paper's 363x255 and at 2000x2000; and BM_KnitJob, the
+// whole knit job (issue 22's 364x351 stitches from pic1.png, defaults incl. dither and solver
+// "auto") writing every output to a temporary folder.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -12,6 +14,9 @@
 #include "algorithms/knit/dither.h"
 #include "algorithms/knit/solvers.h"
 #include "algorithms/knit/stitch_grid.h"
+#include "convert/common/param_table.h"
+#include "convert/convert.h"
+#include "tests/e2e/daemon_harness.h"
 
 namespace {
 
@@ -90,5 +95,25 @@ BENCHMARK_CAPTURE(BM_KnitSolve, min_conflict, Solver::min_conflict)->Apply(sizes
 BENCHMARK_CAPTURE(BM_KnitSolve, gsat, Solver::gsat)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_KnitSolve, hybrid, Solver::hybrid)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_KnitSolve, texturing, Solver::texturing)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_KnitSolve, hybrid_texturing, Solver::hybrid_texturing)->Apply(sizes);
+
+// The whole job as atelierd runs it: load, grid, auto search, metrics, pattern.png,
+// preview.png, chart.pdf, pattern.k, report.json. Label: the report's per-stage times.
+void BM_KnitJob(benchmark::State& state) {
+  atelier::test::TempDir tmp;
+  atelier::ConvertRequest req;
+  req.kind = "knit";
+  req.input = std::string(ATELIER_TEST_DATA) + "/pic1.png";  // 400x300 -> 364x351 stitches
+  atelier::apply_set(req.params, "width=364");
+  req.output_dir = tmp.path() / "out";
+  atelier::ConvertResult result;
+  for (auto _ : state) result = atelier::convert(req);
+  std::string label = std::to_string(result.report["grid"]["stitches"].get<int>()) + "x" +
+                      std::to_string(result.report["grid"]["rows"].get<int>());
+  for (const auto& [stage, ms] : result.report["timings_ms"].items())
+    label += " " + stage + "=" + std::to_string(static_cast<int>(ms.get<double>() + 0.5));
+  state.SetLabel(label);
+}
+BENCHMARK(BM_KnitJob)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 }  // namespace

@@ -55,16 +55,22 @@ cv::Mat stitch_tile(const cv::Vec3b& yarn, int w, int h) {
 
 }  // namespace
 
-cv::Mat render_preview(const cv::Mat& grid, const PreviewStyle& style) {
-  if (grid.empty() || grid.type() != CV_8UC1)
-    throw std::invalid_argument("render_preview: the grid must be a non-empty CV_8UC1 image");
+StitchTiles stitch_tiles(const PreviewStyle& style) {
   if (style.stitch_px < 1)
     throw std::invalid_argument("render_preview: stitch_px must be at least 1");
   if (!(style.stitch_aspect > 0) || !std::isfinite(style.stitch_aspect))
     throw std::invalid_argument("render_preview: stitch_aspect must be a positive number");
   const int w = style.stitch_px;
   const int h = std::max(1, static_cast<int>(std::lround(w * style.stitch_aspect)));
-  const cv::Mat tiles[2] = {stitch_tile(style.background, w, h), stitch_tile(style.contrast, w, h)};
+  return StitchTiles{{stitch_tile(style.background, w, h), stitch_tile(style.contrast, w, h)}};
+}
+
+cv::Mat render_preview(const cv::Mat& grid, const PreviewStyle& style) {
+  if (grid.empty() || grid.type() != CV_8UC1)
+    throw std::invalid_argument("render_preview: the grid must be a non-empty CV_8UC1 image");
+  const StitchTiles st = stitch_tiles(style);
+  const cv::Mat* tiles = st.tile;
+  const int w = tiles[0].cols, h = tiles[0].rows;
   cv::Mat out(grid.rows * h, grid.cols * w, CV_8UC3);
   for (int y = 0; y < grid.rows; ++y) {
     const uint8_t* g = grid.ptr<uint8_t>(y);

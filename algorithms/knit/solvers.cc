@@ -321,8 +321,10 @@ Solver solver_from_name(const std::string& name) {
   if (name == "gsat") return Solver::gsat;
   if (name == "hybrid") return Solver::hybrid;
   if (name == "texturing") return Solver::texturing;
-  throw std::invalid_argument("unknown solver \"" + name +
-                              "\" (none, random-walk, min-conflict, gsat, hybrid, texturing)");
+  if (name == "hybrid-texturing") return Solver::hybrid_texturing;
+  throw std::invalid_argument(
+      "unknown solver \"" + name +
+      "\" (none, random-walk, min-conflict, gsat, hybrid, texturing, hybrid-texturing)");
 }
 
 std::string solver_name(Solver s) {
@@ -333,18 +335,20 @@ std::string solver_name(Solver s) {
     case Solver::gsat: return "gsat";
     case Solver::hybrid: return "hybrid";
     case Solver::texturing: return "texturing";
+    case Solver::hybrid_texturing: return "hybrid-texturing";
   }
   throw std::invalid_argument("solver_name: invalid Solver value");
 }
 
 bool solver_is_complete(Solver s) {
   return s == Solver::min_conflict || s == Solver::gsat || s == Solver::hybrid ||
-         s == Solver::texturing;
+         s == Solver::texturing || s == Solver::hybrid_texturing;
 }
 
 SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& params) {
   detail::check_problem(grid, rules, "solve");
-  if (params.solver == Solver::random_walk || params.solver == Solver::hybrid)
+  if (params.solver == Solver::random_walk || params.solver == Solver::hybrid ||
+      params.solver == Solver::hybrid_texturing)
     check_random_walk(params);
   SolveStats stats;
   stats.violations_before = count_violations(grid, rules);
@@ -369,12 +373,41 @@ SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& par
     case Solver::texturing:
       stats.search_flips = run_texturing(grid, rules, rng, Progress(fn, 0, 1));
       break;
+    case Solver::hybrid_texturing:
+      stats.random_walk_flips = run_random_walk(grid, rules, params, stats.violations_before, rng, Progress(fn, 0, 0.5));
+      stats.search_flips = run_texturing(grid, rules, rng, Progress(fn, 0.5, 1));
+      break;
   }
   if (fn) fn(1.0);
   stats.flips = stats.random_walk_flips + stats.search_flips;
   stats.violations_after = count_violations(grid, rules);
   stats.complete = stats.violations_after == 0;
   return stats;
+}
+
+void solve_hybrids(const cv::Mat& start, const FloatRules& rules, const SolverParams& params,
+                   cv::Mat& by_gsat, SolveStats& gsat_stats, cv::Mat& by_texturing,
+                   SolveStats& texturing_stats) {
+  detail::check_problem(start, rules, "solve");
+  check_random_walk(params);
+  const std::function<void(double)> quiet;
+  SolveStats walk;
+  walk.violations_before = count_violations(start, rules);
+  Rng rng(params.seed);  // as solve(): the walk draws first, the second phase continues
+  cv::Mat walked = start.clone();
+  walk.random_walk_flips = run_random_walk(walked, rules, params, walk.violations_before, rng, Progress(quiet, 0, 1));
+  Rng rng_texturing = rng;  // the same state for the other second phase
+  by_gsat = walked.clone();
+  by_texturing = walked;
+  gsat_stats = walk;
+  gsat_stats.search_flips = run_gsat(by_gsat, rules, rng, Progress(quiet, 0, 1));
+  texturing_stats = walk;
+  texturing_stats.search_flips = run_texturing(by_texturing, rules, rng_texturing, Progress(quiet, 0, 1));
+  for (auto [grid, stats] : {std::pair{&by_gsat, &gsat_stats}, std::pair{&by_texturing, &texturing_stats}}) {
+    stats->flips = stats->random_walk_flips + stats->search_flips;
+    stats->violations_after = count_violations(*grid, rules);
+    stats->complete = stats->violations_after == 0;
+  }
 }
 
 }  // namespace atelier::knit

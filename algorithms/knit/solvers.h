@@ -19,9 +19,15 @@ enum class Solver {
   gsat,          // 4.3: best flip first, row-local re-ranking, minimal flips
   hybrid,        // 4.4: Random Walk (n, q, m) then GSAT
   texturing,     // 4.5: break each long run at a random shift, every f stitches
+  // The paper's second hybrid (abstract, 4.4-4.5, 6: Atkinson + texturing "resembles the
+  // original the best"): Random Walk (n, q, m) for randomness, then pseudo-random texturing
+  // instead of GSAT for what is left. GSAT's breaks sit f + 1 from a run's end and line up
+  // beside vertical structure; texturing's random shift does not align them (at the cost of
+  // more flips than GSAT's minimum). m = 2f+1 reduces it to texturing.
+  hybrid_texturing,
 };
 
-// "none", "random-walk", "min-conflict", "gsat", "hybrid", "texturing".
+// "none", "random-walk", "min-conflict", "gsat", "hybrid", "texturing", "hybrid-texturing".
 Solver solver_from_name(const std::string& name);  // throws std::invalid_argument
 std::string solver_name(Solver s);
 // True for the solvers that always end with zero violations.
@@ -44,11 +50,19 @@ struct SolveStats {
   long violations_before = 0;
   long violations_after = 0;
   long flips = 0;             // total stitches flipped
-  long random_walk_flips = 0; // of which by the Random Walk phase (random_walk, hybrid)
+  long random_walk_flips = 0; // of which by the Random Walk phase (random_walk, hybrid*)
   long search_flips = 0;      // of which by GSAT / Min-Conflict / texturing
   bool complete = false;      // violations_after == 0
 };
 
 SolveStats solve(cv::Mat& grid, const FloatRules& rules, const SolverParams& params);
+
+// Both hybrids from one Random Walk, their common first phase (the auto search runs both):
+// `by_gsat` ends as solve() with Solver::hybrid and `by_texturing` as with
+// Solver::hybrid_texturing would leave `start`, with the same params (params.solver and
+// progress are ignored). Same checks and exceptions as solve().
+void solve_hybrids(const cv::Mat& start, const FloatRules& rules, const SolverParams& params,
+                   cv::Mat& by_gsat, SolveStats& gsat_stats, cv::Mat& by_texturing,
+                   SolveStats& texturing_stats);
 
 }  // namespace atelier::knit

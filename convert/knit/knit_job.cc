@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "algorithms/knit/auto_choice.h"
 #include "algorithms/knit/dither.h"
 #include "algorithms/knit/floats.h"
 #include "algorithms/knit/preview.h"
@@ -23,6 +24,7 @@
 #include "convert/knit/knit_chart.h"
 #include "convert/knit/knit_knitout.h"
 #include "convert/knit/knit_params.h"
+#include "convert/knit/knit_preview_png.h"
 #include "convert/common/output_files.h"
 
 namespace atelier {
@@ -106,20 +108,39 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   report_progress(req, 0.1);
 
   const knit::Dither requested = p.dither_method();
-  const knit::Dither method = knit::resolve_dither(requested, gray);
-  cv::Mat start = knit::dither(gray, method, p.threshold);
-  timer.done("dither");
-  report_progress(req, 0.15);
-
-  cv::Mat grid = start.clone();
   knit::SolverParams sp;
   sp.solver = p.solver_kind();
   sp.seed = p.seed;
   sp.rw_n = p.rw_n;
   sp.rw_q = p.rw_q;
   sp.rw_m = p.rw_m;
-  sp.progress = [&req](double f) { report_progress(req, 0.15 + 0.65 * f); };
-  knit::SolveStats stats = knit::solve(grid, rules, sp);
+  const bool search = requested == knit::Dither::automatic || p.solver_auto();
+  knit::Dither method = requested;
+  knit::AutoResult chosen;
+  cv::Mat start, grid;
+  knit::SolveStats stats;
+  if (search) {
+    // Measured, not guessed: each candidate pair is solved and scored (auto_choice.h).
+    const std::vector<knit::Dither> dithers =
+        requested == knit::Dither::automatic ? knit::auto_dither_candidates() : std::vector<knit::Dither>{requested};
+    const std::vector<knit::Solver> solvers =
+        p.solver_auto() ? knit::auto_solver_candidates() : std::vector<knit::Solver>{sp.solver};
+    chosen = knit::choose_by_measurement(gray, rules, dithers, solvers, p.threshold, sp, 2);
+    method = chosen.candidates[chosen.chosen].dither;
+    sp.solver = chosen.candidates[chosen.chosen].solver;
+    start = chosen.start;
+    grid = chosen.grid;
+    stats = chosen.stats;
+    timer.done("auto_search");  // every candidate's dither, solve and SSIM
+  } else {
+    start = knit::dither(gray, method, p.threshold);
+    timer.done("dither");
+    report_progress(req, 0.15);
+    grid = start.clone();
+    sp.progress = [&req](double f) { report_progress(req, 0.15 + 0.65 * f); };
+    stats = knit::solve(grid, rules, sp);
+  }
+  const std::string solver_used = knit::solver_name(sp.solver);
   timer.done("solve");
   report_progress(req, 0.8);
 
@@ -127,8 +148,9 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   const long consistent_before = knit::consistent_stitches(start, rules);
   const long consistent_after = knit::consistent_stitches(grid, rules);
   const int longest = knit::longest_float(grid, rules);
-  const double similarity = knit::blurred_ssim(gray, grid, 2.0);
-  const double similarity_start = knit::blurred_ssim(gray, start, 2.0);
+  const knit::BlurredSsim ssim(gray, 2.0);
+  const double similarity = ssim(grid);
+  const double similarity_start = ssim(start);
   const long relaxed = rules.relax.empty() ? 0 : cv::countNonZero(rules.relax);
   timer.done("metrics");
 
@@ -154,14 +176,17 @@ ConvertResult convert_knit(const ConvertRequest& req) {
     return static_cast<double>(grid.cols) * w * grid.rows * h;
   };
   while (style.stitch_px > 1 && preview_pixels(style.stitch_px) > kPreviewMaxPixels) --style.stitch_px;
-  write_output_png(out / "preview.png", knit::render_preview(grid, style));
+  // Encoded from the grid's structure (knit_preview_png.h), the same pixels as the render.
+  const std::string preview = encode_preview_png(grid, style);
+  if (!preview.empty()) write_output(out / "preview.png", preview);
+  else write_output_png(out / "preview.png", knit::render_preview(grid, style));
   timer.done("preview_png");
   report_progress(req, 0.85);
 
   ChartInfo chart;
   chart.title = input_name;
   chart.max_float = p.max_float;
-  chart.solver = p.solver;
+  chart.solver = solver_used;
   chart.colors = p.rgb;
   chart.color_names = p.colors;
   chart.first_row_top = p.first_row == "top";
@@ -226,11 +251,24 @@ ConvertResult convert_knit(const ConvertRequest& req) {
                 {"channels", image.channels()}};
   r["parameters"] = params;
   if (requested == knit::Dither::automatic) {
-    bool line = method == knit::Dither::threshold;
     r["dither_auto_choice"] = knit::dither_name(method);
-    r["dither_auto_reason"] =
-        line ? "the picture looks like a line drawing (mostly two tones, thin dark strokes)"
-             : "the picture has continuous tones";
+    r["dither_auto_reason"] = chosen.reason;
+  }
+  if (p.solver_auto()) {
+    r["solver_auto_choice"] = solver_used;
+    r["solver_auto_reason"] = chosen.reason;
+  }
+  if (search) {
+    nlohmann::ordered_json tried = nlohmann::ordered_json::array();
+    for (const knit::AutoCandidate& c : chosen.candidates)
+      tried.push_back({{"dither", knit::dither_name(c.dither)},
+                       {"solver", knit::solver_name(c.solver)},
+                       {"similarity", c.similarity},
+                       {"violations", c.violations},
+                       {"flips", c.flips}});
+    r["auto_search"] = {{"candidates", tried},
+                        {"chosen", chosen.chosen},
+                        {"reason", chosen.reason}};
   }
   r["grid"] = {{"stitches", grid.cols}, {"rows", grid.rows}};
   // The picture row knitted first; the knitting machine's device reads it (knit_order.h).
@@ -245,7 +283,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   r["longest_float"] = knitout_float;  // [i22-knitout] the float pattern.k holds
   r["longest_constrained_float"] = longest;  // the solver's measure (free edge runs, relax excluded)
   r["max_float"] = p.max_float;
-  r["solver"] = p.solver;
+  r["solver"] = solver_used;  // what ran ("auto" resolved); parameters.solver as configured
   r["complete"] = stats.violations_after == 0;
   r["knittable"] = knittable;   // [i22-knitout] false: the knitting device refuses the job
   r["warnings"] = warnings;     // [i22-knitout] shown by atelierctl show

@@ -40,7 +40,9 @@ knit::GaugeParams KnitParams::gauge() const {
 }
 
 knit::Dither KnitParams::dither_method() const { return knit::dither_from_name(dither); }
-knit::Solver KnitParams::solver_kind() const { return knit::solver_from_name(solver); }
+knit::Solver KnitParams::solver_kind() const {
+  return solver == "auto" ? knit::Solver::hybrid : knit::solver_from_name(solver);
+}
 
 KnitParams read_knit_params(const toml::table& table, const std::string& source) {
   TableReader r(table, source, "");
@@ -56,7 +58,8 @@ KnitParams read_knit_params(const toml::table& table, const std::string& source)
   p.anchoring = r.get_bool("anchoring", p.anchoring);
   p.relax_mask = r.get_string("relax_mask", p.relax_mask);
   p.solver = r.get_choice("solver", p.solver,
-                          {"hybrid", "gsat", "min-conflict", "random-walk", "texturing", "none"});
+                          {"auto", "hybrid", "hybrid-texturing", "gsat", "min-conflict", "random-walk", "texturing",
+                           "none"});
   p.seed = static_cast<uint64_t>(
       r.get_int("seed", static_cast<int64_t>(p.seed), 0, std::numeric_limits<int64_t>::max()));
   p.rw_n = static_cast<int>(r.get_int("rw_n", p.rw_n, 1, 100000));

@@ -6,6 +6,9 @@
 //   stitches_per_10cm = 28, rows_per_10cm = 36 (1..200)   gauge; keeps the picture's aspect
 //   orientation = "horizontal" | "vertical"  (vertical: knitted sideways)
 //   dither = "auto" | "threshold" | "floyd-steinberg" | "atkinson" | "ordered"
+//                                    auto: chosen by measurement (auto_choice.h): every
+//                                    dither is solved and the best blurred SSIM at zero
+//                                    violations wins; report.json lists what was tried
 //   threshold = 128 (0..255)         grey level between the two colours
 //   max_float = 4 (2..50)            longest allowed run of one colour
 //   anchoring = true                 both yarns anchored at the row edges
@@ -14,7 +17,11 @@
 //                                    the folder of the input image. When empty and a file
 //                                    `<input>.relax.png` exists beside the input (e.g.
 //                                    `cat.jpg.relax.png`), that file is used.
-//   solver = "hybrid" | "gsat" | "min-conflict" | "random-walk" | "texturing" | "none"
+//   solver = "auto" | "hybrid" | "hybrid-texturing" | "gsat" | "min-conflict" | "random-walk" |
+//            "texturing" | "none"   (hybrid: Random Walk + GSAT; hybrid-texturing: Random
+//            Walk + pseudo-random texturing, the paper's second hybrid; auto: the complete
+//            solvers hybrid, hybrid-texturing, gsat, texturing are tried with the dither(s)
+//            and measured as for dither = "auto")
 //   seed = 1, rw_n = 100 (1..100000), rw_q = 5 (0..100000), rw_m = 4 (1..100)
 //   invert = false                   false: dark areas get the contrast colour
 //   colors = ["#f4efe6", "#3a2a5c"]  background, contrast yarn as #rrggbb (preview, chart)
@@ -54,7 +61,7 @@ struct KnitParams {
   int max_float = 4;
   bool anchoring = true;
   std::string relax_mask;  // as given ("" = none)
-  std::string solver = "hybrid";
+  std::string solver = "auto";
   uint64_t seed = 1;
   int rw_n = 100;
   int rw_q = 5;
@@ -66,7 +73,8 @@ struct KnitParams {
 
   knit::GaugeParams gauge() const;
   knit::Dither dither_method() const;
-  knit::Solver solver_kind() const;
+  bool solver_auto() const { return solver == "auto"; }
+  knit::Solver solver_kind() const;  // hybrid for "auto" (auto is resolved by measurement)
 };
 
 // Reads every key of `table` (see above); `source` names the file for errors without line.

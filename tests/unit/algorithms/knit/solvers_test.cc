@@ -2,6 +2,7 @@
 // left, fewest flips, reproducible seeds, progress and cancel.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -15,7 +16,8 @@
 namespace atelier::knit {
 namespace {
 
-const Solver kComplete[] = {Solver::min_conflict, Solver::gsat, Solver::hybrid, Solver::texturing};
+const Solver kComplete[] = {Solver::min_conflict, Solver::gsat, Solver::hybrid, Solver::texturing,
+                            Solver::hybrid_texturing};
 
 // Random 0/1 grid where each stitch repeats its left neighbour with probability `stick`
 // (high stick = long runs, as in flat areas of a picture).
@@ -205,11 +207,84 @@ TEST(KnitSolvers, HybridRunsRandomWalkThenGsat) {
   EXPECT_EQ(h.flips, g.flips);
 }
 
+// The share of rows whose flips fall in the most used column: how much the second phase's
+// breaks line up into vertical stripes on a picture made of identical rows.
+double column_alignment(const cv::Mat& before, const cv::Mat& after) {
+  std::vector<int> per_column(before.cols, 0);
+  for (int y = 0; y < before.rows; ++y)
+    for (int x = 0; x < before.cols; ++x)
+      if (before.at<uint8_t>(y, x) != after.at<uint8_t>(y, x)) ++per_column[x];
+  return static_cast<double>(*std::max_element(per_column.begin(), per_column.end())) / before.rows;
+}
+
+// The paper's second hybrid (4.4-4.5): the same Random Walk first, then pseudo-random
+// texturing instead of GSAT: more flips than GSAT's minimum but breaks that do not line up.
+TEST(KnitSolvers, HybridTexturingRunsRandomWalkThenTexturing) {
+  const cv::Mat start = real_grid("starry_night.jpg", 200, Dither::threshold);
+  FloatRules rules;
+  SolverParams params;
+  cv::Mat walk = start.clone(), gsat_hybrid = start.clone(), tex_hybrid = start.clone();
+  params.solver = Solver::random_walk;
+  const SolveStats w = solve(walk, rules, params);
+  params.solver = Solver::hybrid;
+  const SolveStats h = solve(gsat_hybrid, rules, params);
+  params.solver = Solver::hybrid_texturing;
+  const SolveStats t = solve(tex_hybrid, rules, params);
+  expect_solved(start, tex_hybrid, rules, t, "hybrid-texturing");
+  // Same seed, same first phase as Random Walk alone and as the GSAT hybrid.
+  EXPECT_GT(t.random_walk_flips, 0);
+  EXPECT_EQ(t.random_walk_flips, w.random_walk_flips);
+  EXPECT_EQ(t.random_walk_flips, h.random_walk_flips);
+  // Texturing breaks every f stitches: more than GSAT's minimum on what the walk left.
+  EXPECT_EQ(h.search_flips, minimum_flips(walk, rules));
+  EXPECT_GT(t.search_flips, h.search_flips);
+  EXPECT_GT(cv::countNonZero(tex_hybrid != gsat_hybrid), 0);
+
+  // A block of identical dark rows (a vertical structure): GSAT's breaks sit f + 1 from
+  // either end, so they stack up in columns; texturing's random shift spreads them.
+  cv::Mat block(400, 60, CV_8UC1, cv::Scalar(0));
+  block(cv::Rect(10, 0, 41, block.rows)).setTo(1);
+  params.rw_m = 2 * rules.max_float + 1;  // no walk: compare the second phases alone
+  cv::Mat by_gsat = block.clone(), by_texturing = block.clone();
+  params.solver = Solver::hybrid;
+  solve(by_gsat, rules, params);
+  params.solver = Solver::hybrid_texturing;
+  const SolveStats reduced = solve(by_texturing, rules, params);
+  EXPECT_EQ(reduced.random_walk_flips, 0);  // m = 2f+1 reduces it to texturing
+  EXPECT_TRUE(reduced.complete);
+  const double a_gsat = column_alignment(block, by_gsat);
+  const double a_tex = column_alignment(block, by_texturing);
+  EXPECT_LT(a_tex, a_gsat) << "texturing " << a_tex << " vs GSAT " << a_gsat;
+  EXPECT_LT(a_tex, 0.45);
+}
+
+// The auto search solves both hybrids from one walk: the same grids and counts as solve().
+TEST(KnitSolvers, SolveHybridsEqualsSolvingEachHybrid) {
+  const cv::Mat start = real_grid("fruits.jpg", 150, Dither::floyd_steinberg);
+  FloatRules rules;
+  SolverParams params;
+  params.seed = 9;
+  cv::Mat a = start.clone(), b = start.clone(), ga, tb;
+  params.solver = Solver::hybrid;
+  const SolveStats sa = solve(a, rules, params);
+  params.solver = Solver::hybrid_texturing;
+  const SolveStats sb = solve(b, rules, params);
+  SolveStats sga, stb;
+  solve_hybrids(start, rules, params, ga, sga, tb, stb);
+  EXPECT_EQ(cv::countNonZero(a != ga), 0);
+  EXPECT_EQ(cv::countNonZero(b != tb), 0);
+  EXPECT_EQ(sa.flips, sga.flips);
+  EXPECT_EQ(sa.random_walk_flips, sga.random_walk_flips);
+  EXPECT_EQ(sb.search_flips, stb.search_flips);
+  EXPECT_EQ(sb.violations_before, stb.violations_before);
+  EXPECT_TRUE(sga.complete && stb.complete);
+}
+
 TEST(KnitSolvers, SameSeedSameGridDifferentSeedDifferentGrid) {
   const cv::Mat start = real_grid("starry_night.jpg", 120, Dither::floyd_steinberg);
   FloatRules rules;
   for (Solver s : {Solver::random_walk, Solver::hybrid, Solver::texturing, Solver::min_conflict,
-                   Solver::gsat}) {
+                   Solver::gsat, Solver::hybrid_texturing}) {
     SolverParams params;
     params.solver = s;
     params.seed = 5;
@@ -268,8 +343,10 @@ TEST(KnitSolvers, NoneKeepsTheGridAndCountsConflicts) {
 
 TEST(KnitSolvers, NamesAndParameterChecks) {
   for (Solver s : {Solver::none, Solver::random_walk, Solver::min_conflict, Solver::gsat,
-                   Solver::hybrid, Solver::texturing})
+                   Solver::hybrid, Solver::texturing, Solver::hybrid_texturing})
     EXPECT_EQ(solver_from_name(solver_name(s)), s);
+  EXPECT_EQ(solver_from_name("hybrid-texturing"), Solver::hybrid_texturing);
+  EXPECT_TRUE(solver_is_complete(Solver::hybrid_texturing));
   EXPECT_THROW(solver_from_name("simulated-annealing"), std::invalid_argument);
   EXPECT_TRUE(solver_is_complete(Solver::gsat));
   EXPECT_FALSE(solver_is_complete(Solver::random_walk));

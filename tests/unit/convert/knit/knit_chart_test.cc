@@ -2,6 +2,10 @@
 // through the atomic output writer or not at all.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <regex>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -140,6 +144,94 @@ TEST(KnitChart, FirstRowTopDrawsThePicturesTopRowAsRowOne) {
   ASSERT_EQ(drawn.size(), 7u);
   for (int i = 0; i < 7; ++i) EXPECT_EQ(drawn[i], grid_row(grid, i)) << "chart row " << i + 1;
   EXPECT_THROW(render_chart_page(grid, info, 2, px_per_mm), std::out_of_range);
+}
+
+// The text of a PDF as pdftotext extracts it, one string per page; empty without pdftotext.
+std::vector<std::string> pdf_pages_text(const fs::path& pdf) {
+  std::vector<std::string> pages;
+  if (std::system("command -v pdftotext > /dev/null 2>&1") != 0) return pages;
+  const std::string cmd = "pdftotext -layout '" + pdf.string() + "' - 2>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return pages;
+  std::string all;
+  char buf[4096];
+  for (size_t n; (n = fread(buf, 1, sizeof buf, pipe)) > 0;) all.append(buf, n);
+  pclose(pipe);
+  std::string page;
+  for (char c : all) {
+    if (c == '\f') {
+      pages.push_back(page);
+      page.clear();
+    } else {
+      page += c;
+    }
+  }
+  if (!page.empty()) pages.push_back(page);
+  return pages;
+}
+
+// Issue 22: 120 stitches were split 37 + 37 + 37 + 9. Every page's stitch and row range as its
+// header states it, read back from the PDF: spread evenly, covering the chart once.
+TEST(KnitChart, PagesSplitStitchesAndRowsEvenly) {
+  test::TempDir tmp;
+  const fs::path pdf = tmp.path() / "chart.pdf";
+  ChartInfo info;
+  info.title = "even.png";
+  const int pages = write_chart_pdf(checkerboard(130, 120), info, pdf);
+  const std::vector<std::string> text = pdf_pages_text(pdf);
+  if (text.empty()) GTEST_SKIP() << "pdftotext not available";
+  ASSERT_EQ(static_cast<int>(text.size()), pages);
+  const std::regex head(R"(Page (\d+) of (\d+): rows (\d+)-(\d+), stitches (\d+)-(\d+))");
+  std::vector<int> widths, heights;
+  std::vector<int> stitch_cover(121, 0), row_cover(131, 0);
+  for (const std::string& page : text) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(page, m, head)) << page.substr(0, 400);
+    const int r0 = std::stoi(m[3]), r1 = std::stoi(m[4]), s0 = std::stoi(m[5]), s1 = std::stoi(m[6]);
+    widths.push_back(s1 - s0 + 1);
+    heights.push_back(r1 - r0 + 1);
+    for (int s = s0; s <= s1; ++s) ++stitch_cover[s];
+    for (int r = r0; r <= r1; ++r) ++row_cover[r];
+  }
+  EXPECT_LE(*std::max_element(widths.begin(), widths.end()) - *std::min_element(widths.begin(), widths.end()), 1);
+  EXPECT_LE(*std::max_element(heights.begin(), heights.end()) - *std::min_element(heights.begin(), heights.end()), 1);
+  // Every stitch on as many pages as there are page rows, every row on as many as columns.
+  const int down = static_cast<int>(std::count(stitch_cover.begin() + 1, stitch_cover.end(), stitch_cover[1]));
+  EXPECT_EQ(down, 120);
+  EXPECT_EQ(std::count(row_cover.begin() + 1, row_cover.end(), row_cover[1]), 130);
+  EXPECT_EQ(stitch_cover[1] * row_cover[1], pages);
+}
+
+// The first page says which page holds which stitch and row range.
+TEST(KnitChart, TheFirstPageCarriesAPageMap) {
+  test::TempDir tmp;
+  const fs::path pdf = tmp.path() / "chart.pdf";
+  ChartInfo info;
+  info.title = "map.png";
+  const int pages = write_chart_pdf(checkerboard(130, 120), info, pdf);
+  ASSERT_GT(pages, 1);
+  const std::vector<ChartTile> tiles = chart_layout(120, 130);
+  ASSERT_EQ(static_cast<int>(tiles.size()), pages);
+  const std::vector<std::string> map = chart_page_map(120, 130);
+  ASSERT_FALSE(map.empty());
+  std::string joined;
+  for (const auto& l : map) joined += l + "\n";
+  EXPECT_NE(joined.find("Page map"), std::string::npos);
+  // Each page column's stitch range and each page row's rows and pages are named.
+  for (const ChartTile& t : tiles) {
+    EXPECT_NE(joined.find(std::to_string(t.stitch0) + "-" + std::to_string(t.stitch1)),
+              std::string::npos) << joined;
+    EXPECT_NE(joined.find("rows " + std::to_string(t.row0) + "-" + std::to_string(t.row1)),
+              std::string::npos) << joined;
+  }
+  EXPECT_TRUE(chart_page_map(20, 20).empty());  // one page: no map
+  // Bounded for the largest chart (1000 x 10000): a few lines.
+  EXPECT_LE(chart_page_map(1000, 10000).size(), 10u);
+  const std::vector<std::string> text = pdf_pages_text(pdf);
+  if (text.empty()) GTEST_SKIP() << "pdftotext not available";
+  EXPECT_NE(text[0].find("Page map"), std::string::npos) << text[0].substr(0, 600);
+  EXPECT_NE(text[0].find("rows " + std::to_string(tiles.back().row0) + "-" + std::to_string(tiles.back().row1)),
+            std::string::npos) << text[0].substr(0, 800);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -179,7 +180,9 @@ class ConvertKnitTest : public ::testing::Test {
 TEST_F(ConvertKnitTest, LineDrawingPic3) {
   ConvertResult r = run(kData / "pic3.png", {"width=90"});
   check_outputs(90, 4);
-  EXPECT_EQ(r.report["solver"], "hybrid");
+  // solver = "auto" (issue 22) is resolved by measurement; the report names what ran.
+  EXPECT_EQ(r.report["parameters"]["solver"], "auto");
+  EXPECT_EQ(r.report["solver"], r.report["solver_auto_choice"]);
   EXPECT_EQ(r.outputs.size(), 5u);
 }
 
@@ -250,6 +253,53 @@ TEST_F(ConvertKnitTest, AutoDitherExplainsItsChoice) {
   ASSERT_TRUE(report.contains("dither_auto_choice"));
   EXPECT_EQ(report["dither_auto_choice"], report["parameters"]["dither_used"]);
   EXPECT_TRUE(report.contains("dither_auto_reason"));
+}
+
+// Issue 22: on a mostly white card auto took threshold because the picture "looks like a line
+// drawing" (blurred SSIM 0.71 where threshold + texturing gave 0.89). Now every dither x
+// complete solver is tried and the best blurred SSIM at zero violations kept; the report
+// lists the candidates.
+TEST_F(ConvertKnitTest, AutoChoosesTheBestMeasuredPairOnAMostlyWhiteCard) {
+  fs::create_directories(out_ / "in");
+  const fs::path card = out_ / "in" / "card.png";
+  cv::Mat img(300, 400, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::rectangle(img, cv::Rect(12, 12, 376, 276), cv::Scalar(40, 40, 40), 2);
+  cv::putText(img, "Happy", cv::Point(60, 120), cv::FONT_HERSHEY_SIMPLEX, 2.2, cv::Scalar(20, 20, 20), 5);
+  cv::putText(img, "Birthday", cv::Point(50, 210), cv::FONT_HERSHEY_SCRIPT_SIMPLEX, 2.0, cv::Scalar(60, 60, 60), 3);
+  for (int i = 0; i < 5; ++i)
+    cv::line(img, cv::Point(40 + 60 * i, 250), cv::Point(80 + 60 * i, 270), cv::Scalar(120, 120, 120), 2);
+  cv::circle(img, cv::Point(330, 70), 30, cv::Scalar(180, 180, 180), cv::FILLED);  // a light grey dot
+  ASSERT_TRUE(cv::imwrite(card.string(), img));
+
+  const nlohmann::json report = run(card, {}).report;
+  ASSERT_TRUE(report.contains("auto_search")) << report.dump(1);
+  const nlohmann::json& tried = report["auto_search"]["candidates"];
+  ASSERT_EQ(tried.size(), 16u);  // 4 dithers x 4 complete solvers
+  std::set<std::string> pairs;
+  double best = -2;
+  for (const auto& c : tried) {
+    ASSERT_TRUE(c.contains("similarity") && c.contains("violations")) << c.dump();
+    pairs.insert(c["dither"].get<std::string>() + "+" + c["solver"].get<std::string>());
+    EXPECT_EQ(c["violations"], 0) << c.dump();  // all complete solvers
+    best = std::max(best, c["similarity"].get<double>());
+  }
+  EXPECT_EQ(pairs.size(), 16u);
+  EXPECT_TRUE(pairs.count("threshold+hybrid") && pairs.count("ordered+gsat") &&
+              pairs.count("threshold+texturing") && pairs.count("atkinson+hybrid-texturing"));
+  const nlohmann::json& chosen = tried[report["auto_search"]["chosen"].get<size_t>()];
+  // The pattern written is the chosen pair's: its similarity is the best of all candidates.
+  EXPECT_DOUBLE_EQ(report["similarity"].get<double>(), chosen["similarity"].get<double>());
+  EXPECT_DOUBLE_EQ(report["similarity"].get<double>(), best);
+  EXPECT_EQ(report["parameters"]["dither_used"], chosen["dither"]);
+  EXPECT_EQ(report["solver"], chosen["solver"]);
+  EXPECT_EQ(report["conflicts_after"], 0);
+  EXPECT_THAT(report["dither_auto_reason"].get<std::string>(), HasSubstr("blurred SSIM"));
+  // What auto used to pick (threshold, hybrid) measures lower than the choice.
+  const nlohmann::json old = run(card, {"dither=\"threshold\"", "solver=\"hybrid\""}).report;
+  EXPECT_FALSE(old.contains("auto_search"));
+  EXPECT_GT(report["similarity"].get<double>(), old["similarity"].get<double>());
+  // Same job, same choice.
+  EXPECT_EQ(run(card, {}).report["auto_search"]["chosen"], report["auto_search"]["chosen"]);
 }
 
 TEST_F(ConvertKnitTest, RelaxMaskBesideTheInputFreesItsArea) {
