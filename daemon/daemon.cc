@@ -328,7 +328,7 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
       std::ifstream report(fs::path(job->output_dir) / report_file_name());
       const auto parsed = nlohmann::json::parse(report, nullptr, false);
       if (auto seconds = estimated_seconds(parsed)) out["estimated_s"] = *seconds;
-      if (auto warnings = report_warnings(parsed); !warnings.empty()) out["warnings"] = warnings;  // [i22-knitout]
+      if (auto warnings = report_warnings(parsed); !warnings.empty()) out["warnings"] = warnings;
     }
     if (job->state == JobState::running) {
       if (Device* d = device_for(*job)) {

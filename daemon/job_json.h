@@ -26,7 +26,7 @@ nlohmann::json job_to_json(const Job& job);
 // nullopt when the report has none (a job no laser runs).
 std::optional<double> estimated_seconds(const nlohmann::json& report);
 
-// [i22-knitout] The warnings a converter put in a job's report.json ("warnings": strings it
+// The warnings a converter put in a job's report.json ("warnings": strings it
 // wants the user to read before the job goes to a machine, e.g. "not knittable as is: ...");
 // empty when the report has none or is not an object.
 std::vector<std::string> report_warnings(const nlohmann::json& report);

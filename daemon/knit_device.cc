@@ -12,6 +12,8 @@
 #include "convert/kinds.h"
 #include "convert/knit/knit_order.h"
 #include "convert/lace/lace_chart_json.h"
+#include "convert/report_file.h"
+#include "daemon/job_json.h"
 #include "daemon/job_log.h"
 #include "daemon/log.h"
 #include "drivers/ayab/knit_plan.h"
@@ -56,20 +58,19 @@ class CannotPlan : public BadInput {
   using BadInput::BadInput;
 };
 
-// [i22-knitout] Why a knit job's report says it is not knittable as is ("" when it is, or
-// when the report predates "knittable"): an incomplete solution (solver "none", random-walk)
-// holds floats longer than the limit, and the machine is not sent it.
+// Why a knit job's report says it is not knittable as is ("" when it is, or when the report
+// predates "knittable"): an incomplete solution (solver "none", random-walk) holds floats
+// longer than the limit, and the machine is not sent it.
 std::string not_knittable_reason(const fs::path& output_dir) {
-  std::ifstream in(output_dir / "report.json");
+  std::ifstream in(output_dir / std::string(report_file_name()));
   if (!in) return "";
   std::ostringstream text;
   text << in.rdbuf();
   const nlohmann::json r = nlohmann::json::parse(text.str(), nullptr, false);
   if (!r.is_object() || !r.contains("knittable") || r["knittable"] != false) return "";
-  if (const auto w = r.find("warnings"); w != r.end() && w->is_array())
-    for (const auto& line : *w)
-      if (line.is_string() && line.get<std::string>().rfind("not knittable", 0) == 0) return line.get<std::string>();
-  return "not knittable as is (report.json: knittable false)";
+  for (const std::string& line : report_warnings(r))
+    if (line.rfind("not knittable", 0) == 0) return line;
+  return "not knittable as is (the report says knittable false)";
 }
 
 // What the knitting machine is fed for a job of `kind`: a lace chart or a stitch pattern.

@@ -216,7 +216,7 @@ void Scheduler::convert_one(int64_t id) {
     case ConversionOutcome::Status::ok:
       for (const Job& j : batch) {
         const std::string device = waiting_for_ ? waiting_for_(j) : "";
-        // [i22-knitout] The report's warnings go in the job's reason, before it goes to a machine.
+        // The report's warnings go in the job's reason, before it goes to a machine.
         std::vector<std::string> warnings;
         {
           std::ifstream report(std::filesystem::path(j.work_dir) / report_file_name());

@@ -226,7 +226,7 @@ std::string format_job_details(const json& job) {
                                  {"id", "kind", "name", "state", "reason", "device", "progress",
                                   "time_left_s", "estimated_s", "created", "updated", "output_dir"},
                                  {"outputs", "history", "warnings"});
-  // [i22-knitout] The converter's warnings, one line each, before the outputs.
+  // The converter's warnings, one line each, before the outputs.
   if (job.contains("warnings") && job["warnings"].is_array() && !job["warnings"].empty()) {
     out += "warnings:\n";
     for (const json& w : job["warnings"]) out += "  " + (w.is_string() ? w.get<std::string>() : dump(w)) + "\n";

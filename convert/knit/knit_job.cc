@@ -195,7 +195,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   timer.done("chart_pdf");
   report_progress(req, 0.95);
 
-  // [i22-knitout] What pattern.k holds: both yarns cross every row, so every run of a colour
+  // What pattern.k holds: both yarns cross every row, so every run of a colour
   // is a float, edges and relaxed stitches included; an incomplete solution is said to be
   // not knittable as is, in the file, report.json's warnings and to the knitting device.
   const int knitout_float = knitout_longest_float(grid);
@@ -280,13 +280,13 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   r["flips"] = stats.flips;
   r["random_walk_flips"] = stats.random_walk_flips;
   r["search_flips"] = stats.search_flips;
-  r["longest_float"] = knitout_float;  // [i22-knitout] the float pattern.k holds
+  r["longest_float"] = knitout_float;  // the float pattern.k holds
   r["longest_constrained_float"] = longest;  // the solver's measure (free edge runs, relax excluded)
   r["max_float"] = p.max_float;
   r["solver"] = solver_used;  // what ran ("auto" resolved); parameters.solver as configured
   r["complete"] = stats.violations_after == 0;
-  r["knittable"] = knittable;   // [i22-knitout] false: the knitting device refuses the job
-  r["warnings"] = warnings;     // [i22-knitout] shown by atelierctl show
+  r["knittable"] = knittable;   // false: the knitting device refuses the job
+  r["warnings"] = warnings;     // shown by atelierctl show
   r["relaxed_stitches"] = relaxed;
   r["similarity"] = similarity;
   r["similarity_start"] = similarity_start;

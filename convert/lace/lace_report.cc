@@ -163,7 +163,7 @@ nlohmann::json lace_report_json(const ConvertRequest& req, const std::string& ti
                    {"stitch_px", preview.stitch_px}}},
       {"params", params_json(params)},
       {"timings_s", {{"evolve", evolve_s}, {"outputs", outputs_s}}},
-      {"warnings", lace_warnings(chart, params)},  // [i22-knitout] shown by atelierctl show
+      {"warnings", lace_warnings(chart, params)},  // shown by atelierctl show
   };
 }
 

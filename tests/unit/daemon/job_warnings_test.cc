@@ -1,4 +1,4 @@
-// [i22-knitout] The warnings path: report.json "warnings" -> show's JSON -> atelierctl show.
+// The warnings path: report.json "warnings" -> show's JSON -> atelierctl show.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>

@@ -347,7 +347,7 @@ TEST(AyabLacePlanOnTheMachine, AChartTheCarriageCannotDoFailsBeforeThePortOpens)
   EXPECT_EQ(machine.opened(), 0);
 }
 
-// [i22-knitout] A knit job whose report says it is not knittable as is (an incomplete
+// A knit job whose report says it is not knittable as is (an incomplete
 // solution: floats over the limit) fails before the port opens, with the report's reason.
 TEST(AyabKnitRefusal, AJobNotKnittableAsIsFailsWithTheReasonAndNothingIsSent) {
   const std::string warning = "not knittable as is: floats up to 14 needles, limit 4 (solver \"none\" left 9 violations)";

@@ -233,7 +233,7 @@ TEST(SchedulerBatch, AStoppedBatchIsQueuedAgainWholeAndRecovered) {
 
 }  // namespace
 
-// [i22-knitout] A conversion's report.json warnings reach the job's reason when it is done,
+// A conversion's report.json warnings reach the job's reason when it is done,
 // before anyone carries the job to a machine.
 TEST(SchedulerWarnings, TheReportsWarningsAreInTheConvertedJobsReason) {
   Rig rig;

@@ -1,4 +1,4 @@
-// [i22-knitout] schedule_vbed_row: few transfer passes (grouped by racking), and the loops end
+// schedule_vbed_row: few transfer passes (grouped by racking), and the loops end
 // where row_transfers says, in its stacking order.
 #include <gtest/gtest.h>
 

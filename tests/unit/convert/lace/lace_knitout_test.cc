@@ -273,7 +273,7 @@ TEST(LaceKnitout, RefusesAChartThatCannotBeKnitted) {
 
 namespace atelier {
 namespace {
-// [i22-knitout] Transfer passes of each chart row in lace.k: runs of xfers at one racking in
+// Transfer passes of each chart row in lace.k: runs of xfers at one racking in
 // one direction (front to back or back to front).
 std::vector<int> transfer_passes_per_row(const std::string& k) {
   std::vector<int> out;

@@ -1,4 +1,4 @@
-// [i22-knitout] A lace chart the Brother lace carriage cannot make is said at conversion, in
+// A lace chart the Brother lace carriage cannot make is said at conversion, in
 // report.json's warnings (which the daemon puts in the job's reason and atelierctl show).
 #include <gtest/gtest.h>
 #include <unistd.h>
