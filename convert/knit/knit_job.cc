@@ -213,6 +213,7 @@ ConvertResult convert_knit(const ConvertRequest& req) {
 
   KnitoutOptions ko;
   if (!knittable) ko.not_knittable = warnings.front().substr(std::string("not knittable as is: ").size());
+  else ko.notes = warnings;
   ko.stitches_per_10cm = p.stitches_per_10cm;
   ko.title = "atelier knit pattern from " + input_name;
   ko.first_row_top = p.first_row == "top";

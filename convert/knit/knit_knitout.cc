@@ -71,6 +71,7 @@ std::string make_knitout(const cv::Mat& grid, const KnitoutOptions& options) {
       << ";;Gauge: " << knitout_gauge(options.stitches_per_10cm) << "\n"
       << ";;Carriers: 1 2\n";
   if (!options.not_knittable.empty()) out << "; NOT KNITTABLE AS IS: " << one_line(options.not_knittable) << "\n";
+  for (const std::string& note : options.notes) out << "; NOTE: " << one_line(note) << "\n";
   out << "; " << one_line(options.title) << "\n"
       << "; Fair Isle, " << width << " stitches x " << rows
       << " rows; carrier 1 = background yarn, carrier 2 = contrast yarn\n"

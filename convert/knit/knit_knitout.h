@@ -27,6 +27,7 @@
 
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 namespace atelier {
 
@@ -37,6 +38,9 @@ struct KnitoutOptions {
   // Non-empty: why the pattern cannot be knitted as is, written as the first comment line
   // ("; NOT KNITTABLE AS IS: ...").
   std::string not_knittable;
+  // Comment lines after it ("; NOTE: ..."): what else the user must know before knitting
+  // (floats longer than max_float at free row edges or in a relaxed area).
+  std::vector<std::string> notes;
 };
 
 // The machine name and gauge both writers put in the headers.
