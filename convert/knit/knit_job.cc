@@ -195,10 +195,10 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   timer.done("chart_pdf");
   report_progress(req, 0.95);
 
-  // What pattern.k holds: both yarns cross every row, so every run of a colour
-  // is a float, edges and relaxed stitches included; an incomplete solution is said to be
-  // not knittable as is, in the file, report.json's warnings and to the knitting device.
-  const int knitout_float = knitout_longest_float(grid);
+  // What pattern.k holds (knitout_longest_float: each yarn from stitch to stitch, turning at
+  // its last stitch of a row); an incomplete solution is said to be not knittable as is, in the
+  // file, report.json's warnings and to the knitting device.
+  const int knitout_float = knitout_longest_float(grid, p.first_row == "top");
   const bool knittable = stats.violations_after == 0;
   std::vector<std::string> warnings;
   if (!knittable)
@@ -207,9 +207,10 @@ ConvertResult convert_knit(const ConvertRequest& req) {
                        std::to_string(stats.violations_after) +
                        " violations); use solver = \"hybrid\" or \"gsat\"");
   else if (knitout_float > p.max_float)
-    warnings.push_back("pattern.k carries both yarns across every row: floats up to " +
-                       std::to_string(knitout_float) + " needles at the row edges or in the relaxed area, limit " +
-                       std::to_string(p.max_float) + " (anchoring = false and relax_mask free them for hand knitting)");
+    warnings.push_back("pattern.k holds floats up to " + std::to_string(knitout_float) +
+                       " needles, limit " + std::to_string(p.max_float) +
+                       ": where a yarn turns between rows around a free edge run (anchoring = false) or in "
+                       "the relaxed area (relax_mask), as chosen for hand knitting");
 
   KnitoutOptions ko;
   if (!knittable) ko.not_knittable = warnings.front().substr(std::string("not knittable as is: ").size());

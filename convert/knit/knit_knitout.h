@@ -8,15 +8,12 @@
 // row 0: knitted top-down, the fabric comes off upside down).
 //
 // Each pattern row is two passes in the same direction: carrier 1 (background yarn) knits the
-// needles of background stitches (0) and misses the others, then carrier 2 (contrast yarn)
-// knits the contrast stitches (1) and misses the rest, so the idle yarn floats behind. Both
-// passes cover the whole width (a carrier with no stitch in a row just misses across), so
-// both carriers always end on the same side and the direction alternates per row. So every
-// run of one colour in a row is a float of the other yarn, edge runs included (anchoring =
-// false only frees them for hand knitting, where the yarn turns at its last stitch; a miss is
-// a float): knitout_longest_float() is that float, which report.json's longest_float states.
-// Headers are the knitout spec's only: ;!knitout-2, ;;Machine: (an identifier the SWG backend
-// knows), ;;Gauge: (integer needles per inch), ;;Carriers: 1 2; the rest are plain comments.
+// needles of background stitches (0), then carrier 2 (contrast yarn) the contrast stitches
+// (1); the idle yarn floats behind. No `miss`: a carrier goes from stitch to stitch by itself
+// and turns at its last stitch of a row (knitout_longest_float() measures what that leaves,
+// which report.json's longest_float states). Carrier 2 comes in (inhook) just before its first
+// stitch, so the hook never blocks carrier 1's needles. The direction alternates per row.
+// Headers: knitout_header.h's; the rest are plain comments.
 // After the last row carrier 2 leaves and carrier 1 binds off (the chain bind-off of knitout
 // examples: knit, move the loop onto the next needle, knit the two), ending in a short tail
 // knitted on the last needle, which is then dropped.
@@ -43,14 +40,13 @@ struct KnitoutOptions {
   std::vector<std::string> notes;
 };
 
-// The machine name and gauge both writers put in the headers.
-inline constexpr const char* kKnitoutMachine = "SWG091N2";
-// Needles per inch, rounded, at least 1.
-int knitout_gauge(double stitches_per_10cm);
-
-// The longest run of misses of one carrier in one pass of make_knitout(grid): the longest run
-// of one colour in any grid row, edges included.
-int knitout_longest_float(const cv::Mat& grid);
+// The longest float make_knitout(grid) holds: for each carrier, the needles its yarn runs
+// behind between two of its stitches in knitting order (the run of the other colour inside a
+// row, and at a row's end the way from its last stitch to its first of the next row it knits;
+// carrier 1 from the plain rows to row 1 and from the last row to the bind-off). A yarn is not
+// carried into a row-edge run of the other colour, so with anchoring free edge runs are floats
+// only as far as a turn spans them.
+int knitout_longest_float(const cv::Mat& grid, bool first_row_top);
 
 // `grid`: CV_8UC1, 1 = contrast, 0 = background; row 0 = top of the picture.
 std::string make_knitout(const cv::Mat& grid, const KnitoutOptions& options);

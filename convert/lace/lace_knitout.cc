@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "algorithms/lace/transfers.h"
+#include "convert/common/knitout_header.h"
 
 namespace atelier {
 namespace {
@@ -198,13 +199,8 @@ std::string make_lace_knitout(const lace::Chart& chart, int cast_on, const LaceK
 
   std::ostringstream out;
   const int start_width = cast_on * o.repeats_wide;
-  // The knitout spec's headers only (Machine: an identifier the SWG backend knows; Gauge: an
-  // integer); the needle count the writer uses is a plain comment.
-  out << ";!knitout-2\n"
-      << ";;Machine: SWG091N2\n"
-      << ";;Gauge: " << std::max(1, static_cast<int>(std::lround(o.stitches_per_10cm * 2.54 / 10.0))) << "\n"
-      << ";;Carriers: 1\n"
-      << ";;Position: Center\n"
+  // The knitout spec's headers only; the needle count the writer uses is a plain comment.
+  out << knitout_header(o.stitches_per_10cm) << "; carriers used: 1\n"
       << "; " << one_line(o.title) << "\n"
       << "; lace, " << chart.rows.size() << " chart rows x " << o.repeats_high << ", " << cast_on
       << " stitches x " << o.repeats_wide << " repeats; stitches on the front bed, lace by transfers\n"

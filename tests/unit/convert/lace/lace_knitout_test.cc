@@ -190,8 +190,8 @@ TEST(LaceKnitout, HeaderLines) {
   const KnitRun run = interpret(k);
   // The knitout spec's headers only, in the file's first lines (no ;;Width:, which is none).
   EXPECT_EQ(run.headers, (std::vector<std::string>{";!knitout-2", ";;Machine: SWG091N2", ";;Gauge: 7",
-                                                   ";;Carriers: 1", ";;Position: Center"}));
-  EXPECT_EQ(k.rfind(";!knitout-2\n;;Machine: SWG091N2\n;;Gauge: 7\n;;Carriers: 1\n;;Position: Center\n", 0), 0u);
+                                                   ";;Carriers: 1 2 3 4 5 6 7 8 9 10", ";;Position: Center"}));
+  EXPECT_EQ(k.rfind(";!knitout-2\n;;Machine: SWG091N2\n;;Gauge: 7\n;;Carriers: 1 2 3 4 5 6 7 8 9 10\n;;Position: Center\n; carriers used: 1\n", 0), 0u);
   for (const char* op : {"inhook 1", "releasehook 1", "outhook 1", "; row 1\n", "; row 3\n", "rack 1", "rack 0"})
     EXPECT_NE(k.find(op), std::string::npos) << op;
   EXPECT_EQ(k.find("; row 4\n"), std::string::npos);  // 1 chart row x 3 repeats high
