@@ -207,99 +207,239 @@ LaceRowSchedule schedule_lace_row(const Row& row, int repeats, int chart_row, co
   return out;
 }
 
-VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
+namespace {
+
+// Appends a pass, merged into the last one when it has the same racking and direction (one
+// carriage pass: at one racking each back needle faces one front needle, so the merged
+// transfers never meet).
+void push_pass(VbedRowSchedule& out, VbedPass pass) {
+  if (pass.stitches.empty()) return;
+  if (!out.passes.empty() && out.passes.back().to_back == pass.to_back && out.passes.back().rack == pass.rack) {
+    auto& st = out.passes.back().stitches;
+    st.insert(st.end(), pass.stitches.begin(), pass.stitches.end());
+    return;
+  }
+  out.passes.push_back(std::move(pass));
+}
+
+int sign_of(int x) { return x > 0 ? 1 : x < 0 ? -1 : 0; }
+
+// One schedule of the row. Positions p are needles right - p; the bed offers p in
+// [-max_rack, width - 1 + max_rack]. uniform: every stitch that can (it then reaches its
+// target from the back, or it moves further and this racking brings it nearer) goes to the
+// back at rack `first`; the others as in schedule_vbed_row's comment.
+VbedRowSchedule plan_vbed_row(const RowTransfers& t, int max_rack, bool uniform, int first, bool home_first) {
   VbedRowSchedule out;
+  const auto at = [](const std::vector<int>& v, int i) -> int { return v[static_cast<size_t>(i)]; };
+  const int width = std::max(t.consumed, t.produced);
+  const int lo = -max_rack, hi = width - 1 + max_rack;
   std::vector<int> moving;
   std::vector<int> home(static_cast<size_t>(t.produced), 0);  // loops in place on each target
-  // Per consumed stitch: the racking of its front-to-back (r1) and back-to-front (r2) transfer;
-  // r2 - r1 = its offset. Up to max_rack needles: r1 = 0; further (up to 2 x max_rack) it
-  // shifts on the way to the back too.
-  std::vector<int> r1(static_cast<size_t>(t.consumed), 0), r2(static_cast<size_t>(t.consumed), 0);
-  std::set<int> back_used;  // back needles, as -s - r1 (needle numbers relative to the right edge)
-  std::vector<int> far;  // stitches moving more than max_rack needles: placed after the near ones
   for (int s = 0; s < t.consumed; ++s) {
-    const int o = t.target[static_cast<size_t>(s)];
-    if (o == s && t.layer[static_cast<size_t>(s)] == 0) {
-      ++home[static_cast<size_t>(o)];  // stays at the bottom of its own stack
-      continue;
-    }
-    moving.push_back(s);
-    const int d = s - o;
-    if (std::abs(d) > 2 * max_rack) out.ok = false;
-    if (std::abs(d) > max_rack) {
-      far.push_back(s);
-      continue;
-    }
-    r2[static_cast<size_t>(s)] = d;
-    back_used.insert(-s);  // distinct: one stitch per front needle
+    if (at(t.target, s) == s && at(t.layer, s) == 0)
+      ++home[static_cast<size_t>(s)];  // stays at the bottom of its own stack
+    else
+      moving.push_back(s);
   }
-  // A far stitch takes the first free back needle among the rackings that reach (|r1|, |r2| <=
-  // max_rack, r2 - r1 = d), largest r2 first. Bounded: <= 2 x max_rack + 1 tries each.
-  for (int s : far) {
-    if (!out.ok) break;
-    const int d = s - t.target[static_cast<size_t>(s)];
-    const int sign = d > 0 ? 1 : -1;
-    bool placed = false;
-    for (int a = max_rack; a >= std::abs(d) - max_rack && !placed; --a) {
-      const int rr2 = sign * a, rr1 = rr2 - d;
-      if (std::abs(rr1) > max_rack || back_used.count(-s - rr1)) continue;
-      back_used.insert(-s - rr1);
-      r1[static_cast<size_t>(s)] = rr1;
-      r2[static_cast<size_t>(s)] = rr2;
-      placed = true;
+  if (moving.empty()) return out;
+  std::vector<int> pos(static_cast<size_t>(t.consumed), 0);  // where each moving stitch is now
+  std::set<int> front_busy, back_busy;
+  for (int s = 0; s < t.consumed; ++s) front_busy.insert(s);
+  // Front to back: r1 per stitch. A stitch whose offset d allows it (|d + r1| <= max_rack)
+  // can come home from the back in one transfer; a stitch moving further takes the racking
+  // that brings it nearest and shuttles below.
+  std::vector<int> r1(static_cast<size_t>(t.consumed), 0);
+  std::vector<char> placed(static_cast<size_t>(t.consumed), 0);
+  auto direct = [&](int s, int r) { return std::abs(s - at(t.target, s) + r) <= max_rack; };
+  auto land = [&](int s, int r) {
+    r1[static_cast<size_t>(s)] = r;
+    pos[static_cast<size_t>(s)] = s + r;
+    back_busy.insert(s + r);
+    placed[static_cast<size_t>(s)] = 1;
+  };
+  for (int s : moving) {
+    const int d = s - at(t.target, s);
+    if (uniform) {
+      if (direct(s, first) || (std::abs(d) > 2 * max_rack && -sign_of(d) * first > 0)) land(s, first);
+    } else if (std::abs(d) <= max_rack) {
+      land(s, 0);  // distinct back needles: one stitch per front needle
     }
-    if (!placed) out.ok = false;  // every reachable back needle is taken
   }
-  if (moving.empty() || !out.ok) return out;
+  for (int s : moving) {
+    if (placed[static_cast<size_t>(s)]) continue;
+    const int d = s - at(t.target, s);
+    std::vector<int> cand;  // tried in order; bounded: 2 x max_rack + 1
+    for (int r = -max_rack; r <= max_rack; ++r)
+      if (direct(s, r) || std::abs(d) > 2 * max_rack) cand.push_back(r);
+    if (std::abs(d) > 2 * max_rack)
+      std::stable_sort(cand.begin(), cand.end(), [&](int a, int b) { return -sign_of(d) * a > -sign_of(d) * b; });
+    else
+      std::stable_sort(cand.begin(), cand.end(), [](int a, int b) { return std::abs(a) < std::abs(b); });
+    for (int r : cand)
+      if (!back_busy.count(s + r)) {
+        land(s, r);
+        break;
+      }
+    if (!placed[static_cast<size_t>(s)]) {  // every back needle it could reach is taken
+      out.ok = false;
+      return out;
+    }
+  }
+  for (int s = 0; s < t.consumed; ++s)
+    if (placed[static_cast<size_t>(s)]) front_busy.erase(s);
   {
     std::set<int> racks;
-    for (int s : moving) racks.insert(r1[static_cast<size_t>(s)]);
+    for (int s : moving) racks.insert(at(r1, s));
     std::vector<int> order(racks.begin(), racks.end());
     std::stable_sort(order.begin(), order.end(), [](int x, int y) { return std::abs(x) < std::abs(y); });
     for (int r : order) {
       VbedPass pass{true, r, {}};
       for (int s : moving)
-        if (r1[static_cast<size_t>(s)] == r) pass.stitches.push_back(s);
-      out.passes.push_back(std::move(pass));
+        if (at(r1, s) == r) pass.stitches.push_back(s);
+      push_pass(out, std::move(pass));
     }
   }
-  std::vector<int> left = moving;
-  int rack = out.passes.back().rack;
-  // Layer by layer (a layer-L stitch is ready once the layers below it are home), one pass per
-  // offset of that layer, nearest the current racking first; a pass also takes every other
-  // ready stitch of its offset. So passes <= 1 + distinct (offset, layer), and each round
-  // places the whole lowest remaining layer: at most 3 rounds (sk2p's stack is the tallest).
-  auto ready = [&](int s) {
-    return home[static_cast<size_t>(t.target[static_cast<size_t>(s)])] == t.layer[static_cast<size_t>(s)];
+  // Shuttle: a stitch still more than max_rack needles from its target goes to a free front
+  // needle up to max_rack nearer and back to a free back needle up to max_rack nearer again;
+  // one pass per racking and direction, largest shifts first, so a row's far stitches shift
+  // together. Returns false when no far stitch gets nearer (the caller gives up).
+  auto gap = [&](int s) { return at(pos, s) - at(t.target, s); };  // > 0: heads to lower positions
+  std::vector<char> is_home(static_cast<size_t>(t.consumed), 0);
+  auto far_total = [&] {
+    int sum = 0;
+    for (int s : moving)
+      if (!is_home[static_cast<size_t>(s)] && std::abs(gap(s)) > max_rack) sum += std::abs(gap(s));
+    return sum;
   };
-  while (!left.empty()) {
-    int low = t.layer[static_cast<size_t>(left.front())];
-    for (int s : left) low = std::min(low, t.layer[static_cast<size_t>(s)]);
-    std::set<int> offsets;
-    for (int s : left)
-      if (t.layer[static_cast<size_t>(s)] == low) {
-        if (!ready(s)) {  // a stack whose lower layer never arrives (not from row_transfers)
-          out.ok = false;
-          out.passes.clear();
-          return out;
+  auto shuttle = [&]() -> bool {
+    const int total = far_total();
+    std::vector<int> up;  // on the front this round
+    std::vector<int> heading(static_cast<size_t>(t.consumed), 0);
+    for (int a = max_rack; a >= 1; --a)
+      for (int sg : {1, -1}) {
+        VbedPass pass{false, sg * a, {}};  // b(q) -> f(q - rack) in positions
+        for (int s : moving) {
+          if (is_home[static_cast<size_t>(s)] || std::abs(gap(s)) <= max_rack || sign_of(gap(s)) != sg ||
+              heading[static_cast<size_t>(s)])
+            continue;
+          const int p = at(pos, s) - sg * a;
+          if (p < lo || p > hi || front_busy.count(p)) continue;
+          back_busy.erase(at(pos, s));
+          front_busy.insert(p);
+          pos[static_cast<size_t>(s)] = p;
+          heading[static_cast<size_t>(s)] = sg;
+          pass.stitches.push_back(s);
+          up.push_back(s);
         }
-        offsets.insert(r2[static_cast<size_t>(s)]);
+        push_pass(out, std::move(pass));
       }
-    std::vector<int> order(offsets.begin(), offsets.end());
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return std::abs(a - rack) < std::abs(b - rack); });
-    for (int d : order) {
-      VbedPass pass{false, d, {}};
-      std::vector<int> rest;
-      for (int s : left) (r2[static_cast<size_t>(s)] == d && ready(s) ? pass.stitches : rest).push_back(s);
-      if (pass.stitches.empty()) continue;  // taken by an earlier pass of this round
-      for (int s : pass.stitches) ++home[static_cast<size_t>(t.target[static_cast<size_t>(s)])];
-      out.passes.push_back(std::move(pass));
-      left = std::move(rest);
-      rack = d;
+    if (up.empty()) return false;  // no far stitch finds a free front needle
+    std::vector<char> down(static_cast<size_t>(t.consumed), 0);
+    for (int a = max_rack; a >= -max_rack; --a)
+      for (int sg : {1, -1}) {
+        VbedPass pass{true, -sg * a, {}};  // f(p) -> b(p + rack) in positions
+        for (int s : up) {
+          if (down[static_cast<size_t>(s)] || heading[static_cast<size_t>(s)] != sg) continue;
+          const int q = at(pos, s) - sg * a;
+          if (q < lo || q > hi || back_busy.count(q)) continue;
+          front_busy.erase(at(pos, s));
+          back_busy.insert(q);
+          pos[static_cast<size_t>(s)] = q;
+          down[static_cast<size_t>(s)] = 1;
+          pass.stitches.push_back(s);
+        }
+        push_pass(out, std::move(pass));
+      }
+    for (int s : up)
+      if (!down[static_cast<size_t>(s)]) return false;  // no free back needle within reach
+    return far_total() < total;
+  };
+  // Back to front: rounds of the ready stitches (lower layers home) within max_rack of their
+  // target, lowest layer first; one pass per racking r2 = pos - target, nearest the current
+  // racking first; a pass also takes every other ready stitch of its racking. Returns how
+  // many came home. Without far stitches each round places the whole lowest remaining layer:
+  // at most 3 rounds (sk2p's stack is the tallest).
+  int rack = out.passes.back().rack;
+  auto ready = [&](int s) {
+    return !is_home[static_cast<size_t>(s)] && std::abs(gap(s)) <= max_rack &&
+           at(home, at(t.target, s)) == at(t.layer, s);
+  };
+  auto go_home = [&]() -> int {
+    int placed_home = 0;
+    for (int round = 0; round <= 3; ++round) {  // 3 layers at most: bounded
+      int low = -1;
+      for (int s : moving)
+        if (ready(s) && (low < 0 || at(t.layer, s) < low)) low = at(t.layer, s);
+      if (low < 0) break;
+      std::set<int> offsets;
+      for (int s : moving)
+        if (ready(s) && at(t.layer, s) == low) offsets.insert(gap(s));
+      std::vector<int> order(offsets.begin(), offsets.end());
+      std::stable_sort(order.begin(), order.end(),
+                       [&](int a, int b) { return std::abs(a - rack) < std::abs(b - rack); });
+      for (int d : order) {
+        VbedPass pass{false, d, {}};
+        for (int s : moving)
+          if (gap(s) == d && ready(s)) pass.stitches.push_back(s);
+        if (pass.stitches.empty()) continue;  // taken by an earlier pass of this round
+        for (int s : pass.stitches) {
+          ++home[static_cast<size_t>(at(t.target, s))];
+          is_home[static_cast<size_t>(s)] = 1;
+          back_busy.erase(at(pos, s));
+          front_busy.insert(at(t.target, s));
+          ++placed_home;
+        }
+        push_pass(out, std::move(pass));
+        rack = d;
+      }
+    }
+    return placed_home;
+  };
+  // home_first: the stitches already near go home before the far ones shuttle (their back
+  // needles are then free to shuttle through); else every far stitch shuttles first.
+  // Bounded: each step homes a stitch or brings the far ones nearer in total.
+  int left = static_cast<int>(moving.size());
+  const int max_steps = left + far_total() + 1;
+  for (int step = 0; left > 0; ++step) {
+    if (step > max_steps) {  // cannot happen while each step progresses; a guard
+      out.ok = false;
+      return out;
+    }
+    const bool any_far = far_total() > 0;
+    if (any_far && !home_first) {
+      if (!shuttle()) {
+        out.ok = false;
+        return out;
+      }
+      continue;
+    }
+    const int placed_home = go_home();
+    left -= placed_home;
+    if (left == 0) break;
+    if (any_far ? !shuttle() : placed_home == 0) {  // stuck, or a stacking order never met
+      out.ok = false;
+      out.passes.clear();
+      return out;
     }
   }
   return out;
+}
+
+}  // namespace
+
+VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack) {
+  // A few ways to pick the first racking and the order of near and far stitches; the one with
+  // the fewest passes wins (the first on a tie: near stitches at rack 0, far ones shuttled
+  // first). Bounded: 2 x (2 x max_rack + 1) plans.
+  VbedRowSchedule best;
+  best.ok = false;
+  for (bool home_first : {false, true})
+    for (int first = 0; first <= 2 * max_rack; ++first) {
+      const int r = first == 0 ? 0 : first <= max_rack ? -first : first - max_rack;  // 0, -1.., 1..
+      VbedRowSchedule p = plan_vbed_row(t, max_rack, r != 0, r, home_first);
+      if (p.ok && (!best.ok || p.passes.size() < best.passes.size())) best = std::move(p);
+    }
+  return best;
 }
 
 }  // namespace atelier::lace

@@ -93,13 +93,16 @@ LaceRowSchedule schedule_lace_row(const Row& row, int repeats, int chart_row,
 // Needles: stitch s of the row below sits on front needle right - s, its output stitch o on
 // right - o (knitting order runs leftwards), so a stitch moves d = s - o needles (> 0
 // rightwards). At rack R, f(x) faces b(x - R). Every stitch that must move (o != s, or it must
-// lie on top of others on its own needle) goes to the back: at rack 0 when |d| <= max_rack,
-// else at rack r1 = r2 - d with r2 = +-max_rack (so up to 2 x max_rack needles in two
-// transfers); one front-to-back pass per r1. Then, layer by layer (bottom of each stack
-// first), one back-to-front pass per racking r2 (= d for the near ones), each taking every
-// stitch of that racking whose lower layers are home. Stitches that stay on their needle at
-// the bottom of their stack never move. Passes per row <= distinct r1 + distinct (r2, layer);
-// the loop-level result is the stack order of row_transfers. Bounded: a round per layer.
+// lie on top of others on its own needle) goes to the back; a stitch more than max_rack
+// needles from its target crosses the beds in rounds (back to a free front needle up to
+// max_rack nearer, then to a free back needle up to max_rack nearer), each round one pass per
+// racking and direction. Then, layer by layer (bottom of each stack first), one back-to-front
+// pass per racking, each taking every stitch of that racking whose lower layers are home.
+// Stitches that stay on their needle at the bottom of their stack never move. Several
+// variants (first racking, near stitches before or after far ones) are tried and the one with
+// the fewest passes kept; consecutive passes of one racking and direction are merged. The
+// loop-level result is the stack order of row_transfers. Bounded: every round homes a stitch
+// or brings the far ones nearer, with a step cap; |rack| <= max_rack always.
 struct VbedPass {
   bool to_back = false;  // true: f(x) -> b(x - rack); false: b(y) -> f(y + rack)
   int rack = 0;
@@ -107,8 +110,8 @@ struct VbedPass {
 };
 struct VbedRowSchedule {
   std::vector<VbedPass> passes;  // empty when no stitch moves
-  // False when a stitch must move further than 2 x max_rack needles, or two would share a
-  // back needle: the caller routes that row in hops instead.
+  // False when no variant can place the row (a stitch would have to pass a needle holding other
+  // loops); the caller then routes it in hops instead.
   bool ok = true;
 };
 VbedRowSchedule schedule_vbed_row(const RowTransfers& t, int max_rack);

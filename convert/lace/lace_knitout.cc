@@ -97,22 +97,22 @@ class Writer {
 };
 
 // The transfers of one row: stitch s of the row below on f(right - s) goes to f(right - o).
-// Grouped passes (schedule_vbed_row: all to the back at rack 0, then one pass per racking);
-// a row with a stitch moving further than the racking limit is routed stitch by stitch.
+// Grouped passes (schedule_vbed_row: to the back, far stitches shuttled a racking at a time,
+// then home one pass per racking); a row it cannot schedule is routed stitch by stitch.
 void transfer_row_routed(Writer& w, const lace::RowTransfers& t, int right);
 void transfer_row(Writer& w, const lace::RowTransfers& t, int right) {
   const lace::VbedRowSchedule plan = lace::schedule_vbed_row(t, kMaxRack);
   if (!plan.ok) return transfer_row_routed(w, t, right);
-  std::vector<int> on_back(static_cast<size_t>(t.consumed), 0);  // back needle of each stitch
+  // The needle each stitch is on (a far stitch crosses the gap more than once).
+  std::vector<int> at(static_cast<size_t>(t.consumed), 0);
+  for (int s = 0; s < t.consumed; ++s) at[static_cast<size_t>(s)] = right - s;
   for (const lace::VbedPass& pass : plan.passes)
     for (int s : pass.stitches) {
-      if (pass.to_back) {
-        const int from = right - s;
-        on_back[static_cast<size_t>(s)] = from - pass.rack;
-        w.xfer(true, from, from - pass.rack);  // racks to pass.rack
-      } else {
-        w.xfer(false, on_back[static_cast<size_t>(s)], right - t.target[static_cast<size_t>(s)]);
-      }
+      int& x = at[static_cast<size_t>(s)];
+      // At rack R, f(x) faces b(x - R): racks to pass.rack.
+      const int to = pass.to_back ? x - pass.rack : x + pass.rack;
+      w.xfer(pass.to_back, x, to);
+      x = to;
     }
   w.rack(0);
 }
