@@ -2,6 +2,7 @@
 #include "convert/report_file.h"
 
 #include <algorithm>
+#include <fstream>
 
 #include "convert/common/param_table.h"
 #include "convert/cut/cut_job.h"
@@ -115,6 +116,11 @@ std::string known_kinds_text() {
 }
 
 std::string_view report_file_name() { return "report.json"; }  // convert/report_file.h
+
+nlohmann::json read_report(const std::filesystem::path& output_dir) {
+  std::ifstream in(output_dir / std::string(report_file_name()));
+  return nlohmann::json::parse(in, nullptr, false);
+}
 
 bool converts_job_file(const std::string& kind) {
   const KindInfo* k = find_kind(kind);

@@ -325,8 +325,7 @@ nlohmann::json Daemon::handle(ControlRequest& request) {
     out["outputs"] = outputs;
     out["history"] = events_to_json(store_->history(id));
     if (!job->output_dir.empty()) {
-      std::ifstream report(fs::path(job->output_dir) / report_file_name());
-      const auto parsed = nlohmann::json::parse(report, nullptr, false);
+      const nlohmann::json parsed = read_report(job->output_dir);
       if (auto seconds = estimated_seconds(parsed)) out["estimated_s"] = *seconds;
       if (auto warnings = report_warnings(parsed); !warnings.empty()) out["warnings"] = warnings;
     }

@@ -62,11 +62,7 @@ class CannotPlan : public BadInput {
 // predates "knittable"): an incomplete solution (solver "none", random-walk) holds floats
 // longer than the limit, and the machine is not sent it.
 std::string not_knittable_reason(const fs::path& output_dir) {
-  std::ifstream in(output_dir / std::string(report_file_name()));
-  if (!in) return "";
-  std::ostringstream text;
-  text << in.rdbuf();
-  const nlohmann::json r = nlohmann::json::parse(text.str(), nullptr, false);
+  const nlohmann::json r = read_report(output_dir);
   if (!r.is_object() || !r.contains("knittable") || r["knittable"] != false) return "";
   for (const std::string& line : report_warnings(r))
     if (line.rfind("not knittable", 0) == 0) return line;

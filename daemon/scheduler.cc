@@ -217,11 +217,7 @@ void Scheduler::convert_one(int64_t id) {
       for (const Job& j : batch) {
         const std::string device = waiting_for_ ? waiting_for_(j) : "";
         // The report's warnings go in the job's reason, before it goes to a machine.
-        std::vector<std::string> warnings;
-        {
-          std::ifstream report(std::filesystem::path(j.work_dir) / report_file_name());
-          warnings = report_warnings(nlohmann::json::parse(report, nullptr, false));
-        }
+        const std::vector<std::string> warnings = report_warnings(read_report(j.work_dir));
         if (device.empty()) {
           jobs_.store().set_progress(j.id, 100, 100);
           jobs_.finish_converted(j.id, JobState::completed,

@@ -201,20 +201,22 @@ ConvertResult convert_knit(const ConvertRequest& req) {
   const int knitout_float = knitout_longest_float(grid, p.first_row == "top");
   const bool knittable = stats.violations_after == 0;
   std::vector<std::string> warnings;
-  if (!knittable)
-    warnings.push_back("not knittable as is: floats up to " + std::to_string(knitout_float) +
-                       " needles, limit " + std::to_string(p.max_float) + " (solver \"" + p.solver + "\" left " +
-                       std::to_string(stats.violations_after) +
-                       " violations); use solver = \"hybrid\" or \"gsat\"");
-  else if (knitout_float > p.max_float)
+  std::string not_knittable;  // what pattern.k's header says after "NOT KNITTABLE AS IS: "
+  if (!knittable) {
+    not_knittable = "floats up to " + std::to_string(knitout_float) + " needles, limit " +
+                    std::to_string(p.max_float) + " (solver \"" + p.solver + "\" left " +
+                    std::to_string(stats.violations_after) + " violations); use solver = \"hybrid\" or \"gsat\"";
+    warnings.push_back("not knittable as is: " + not_knittable);
+  } else if (knitout_float > p.max_float) {
     warnings.push_back("pattern.k holds floats up to " + std::to_string(knitout_float) +
                        " needles, limit " + std::to_string(p.max_float) +
                        ": where a yarn turns between rows around a free edge run (anchoring = false) or in "
                        "the relaxed area (relax_mask), as chosen for hand knitting");
+  }
 
   KnitoutOptions ko;
-  if (!knittable) ko.not_knittable = warnings.front().substr(std::string("not knittable as is: ").size());
-  else ko.notes = warnings;
+  ko.not_knittable = not_knittable;
+  if (knittable) ko.notes = warnings;
   ko.stitches_per_10cm = p.stitches_per_10cm;
   ko.title = "atelier knit pattern from " + input_name;
   ko.first_row_top = p.first_row == "top";
