@@ -13,6 +13,7 @@
 #include "algorithms/parquetry/features.h"
 #include "algorithms/parquetry/order.h"
 #include "algorithms/parquetry/plan_shapes.h"
+#include "algorithms/parquetry/quality.h"
 #include "algorithms/parquetry/wood_index.h"
 
 namespace atelier::parquetry {
@@ -130,6 +131,7 @@ void finish(Job& job, const WoodIndex& wood, const std::vector<Sheet>& sheets, d
   plan.error = mse(plan.reconstruction, plan.target);
   plan.baseline_error = mse(baseline, plan.target);
   plan.target_mean_error = mse(flat_target, plan.target);
+  plan.ssim = blurred_ssim(plan.reconstruction, plan.target, r);
 }
 
 }  // namespace

@@ -62,6 +62,8 @@ struct Plan {
   // ... of every piece filled with the target's own mean colour there (the best a flat
   // colour per piece could do, outside the wood's gamut; for information).
   double target_mean_error = 0;
+  // Blurred SSIM of the reconstruction against `target` (quality.h): 1 = identical.
+  double ssim = 0;
   // Eq. 8 (summed squared feature differences) of the straight grid cuts and of the refined
   // cuts, refine = dp only (0 otherwise).
   double seam_cost_straight = 0, seam_cost_refined = 0;

@@ -297,7 +297,8 @@ json write_target(const Target& t, const parquetry::Plan& plan,
             {"sheets", sheet_report},
             {"error", plan.error},
             {"baseline_error", plan.baseline_error},
-            {"target_mean_error", plan.target_mean_error}};
+            {"target_mean_error", plan.target_mean_error},
+            {"ssim", plan.ssim}};
   if (plan.refine == parquetry::Refine::dp) {
     r["seam_cost_straight"] = plan.seam_cost_straight;
     r["seam_cost_refined"] = plan.seam_cost_refined;
