@@ -50,10 +50,19 @@ struct WoodIndex::Copy {
   cv::Mat f1_integral, f2_integral;  // CV_64F
   cv::Mat bad;           // CV_8UC1, 1 = unusable, used or off the sheet
   cv::Mat bad_integral;  // CV_32S
-  std::map<SizeKey, cv::Mat> window_sq;  // per window size: sum of f1^2 + f2^2, CV_32F
-  std::map<SizeKey, cv::Mat> window_f1, window_f2;  // per window size: sums of f1, f2
-  std::map<SizeKey, cv::Mat> valid;      // per window size: 255 = window wholly on free wood
-  std::map<SizeKey, int> valid_count;
+};
+
+// What one copy keeps for one window size (CV_32F sums over every window position).
+struct WoodIndex::Slot {
+  cv::Mat valid;          // CV_8UC1 255 = window wholly on free wood; empty = not computed
+  int valid_count = -1;   // its non-zero count, -1 = not computed
+  cv::Mat w1, w2;         // sums of f1, f2 (the lower bound)
+  cv::Mat wsq;            // sum of f1^2 + f2^2 (unmasked scoring)
+};
+
+struct WoodIndex::SizeCache {
+  SizeKey key;
+  std::vector<Slot> slots;  // one per copy
 };
 
 WoodIndex::WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, double px_per_mm,
@@ -125,7 +134,7 @@ WoodIndex::WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, doubl
       cv::integral(c->sq, c->sq_integral, CV_64F);
       cv::integral(rf1, c->f1_integral, CV_64F);
       cv::integral(rf2, c->f2_integral, CV_64F);
-      refresh(*c);
+      cv::integral(c->bad, c->bad_integral, CV_32S);
       copies_of_sheet_[s].push_back(static_cast<int>(copies_.size()));
       copies_.push_back(std::move(c));
     }
@@ -136,29 +145,67 @@ WoodIndex::WoodIndex(const std::vector<Sheet>& sheets, const Stock& stock, doubl
 
 WoodIndex::~WoodIndex() = default;
 
-void WoodIndex::refresh(Copy& c) {
+void WoodIndex::refresh(int i) {
+  Copy& c = *copies_[i];
   cv::integral(c.bad, c.bad_integral, CV_32S);
-  c.valid.clear();
-  c.valid_count.clear();
+  for (SizeCache& e : cache_) {
+    e.slots[i].valid.release();
+    e.slots[i].valid_count = -1;
+  }
 }
 
-int WoodIndex::ensure_valid(Copy& c, int pw, int ph) {
-  const SizeKey key{pw, ph};
+WoodIndex::SizeCache& WoodIndex::cached(int pw, int ph) {
+  const std::pair<int, int> key{pw, ph};
+  for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+    if (it->key == key) {
+      cache_.splice(cache_.begin(), cache_, it);  // most recently used first
+      return cache_.front();
+    }
+  }
+  if (cache_.size() >= kCachedSizes) cache_.pop_back();  // frees that size in every copy
+  cache_.push_front({key, std::vector<Slot>(copies_.size())});
+  return cache_.front();
+}
+
+int WoodIndex::ensure_valid(const Copy& c, Slot& slot, int pw, int ph) {
   const int nx = c.bad.cols - pw + 1, ny = c.bad.rows - ph + 1;
   if (nx <= 0 || ny <= 0) return 0;
-  if (!c.valid_count.count(key)) {
+  if (slot.valid_count < 0) {
     const cv::Mat& I = c.bad_integral;
     cv::Mat sum = I(cv::Rect(pw, ph, nx, ny)) - I(cv::Rect(pw, 0, nx, ny)) -
                   I(cv::Rect(0, ph, nx, ny)) + I(cv::Rect(0, 0, nx, ny));
-    c.valid[key] = sum == 0;
-    c.valid_count[key] = cv::countNonZero(c.valid[key]);
+    slot.valid = sum == 0;
+    slot.valid_count = cv::countNonZero(slot.valid);
   }
-  return c.valid_count[key];
+  return slot.valid_count;
+}
+
+std::size_t WoodIndex::cache_bytes() const {
+  std::size_t n = 0;
+  for (const SizeCache& e : cache_) {
+    for (const Slot& s : e.slots) {
+      for (const cv::Mat* m : {&s.valid, &s.w1, &s.w2, &s.wsq}) n += m->total() * m->elemSize();
+    }
+  }
+  return n;
+}
+
+std::size_t WoodIndex::bytes() const {
+  std::size_t n = cache_bytes();
+  for (const auto& c : copies_) {
+    for (const cv::Mat* m : {&c->bgr, &c->f1, &c->f2, &c->spec1, &c->spec2, &c->sq, &c->sq_integral,
+                             &c->f1_integral, &c->f2_integral, &c->bad, &c->bad_integral}) {
+      n += m->total() * m->elemSize();
+    }
+  }
+  for (const cv::Mat& m : used_) n += m.total() * m.elemSize();
+  for (const cv::Mat& m : usable_) n += m.total() * m.elemSize();
+  return n;
 }
 
 std::vector<double> WoodIndex::lower_bounds(const cv::Mat& f1, const cv::Mat& f2) {
   const int pw = f1.cols, ph = f1.rows;
-  const SizeKey key{pw, ph};
+  SizeCache& entry = cached(pw, ph);
   const double t1 = cv::sum(f1)[0], t2 = cv::sum(f2)[0], n = static_cast<double>(pw) * ph;
 
   // Per copy: which windows are free (O(1) per window from the integral image), and a
@@ -166,15 +213,15 @@ std::vector<double> WoodIndex::lower_bounds(const cv::Mat& f1, const cv::Mat& f2
   std::vector<double> bound(copies_.size(), std::numeric_limits<double>::infinity());
   cv::parallel_for_(cv::Range(0, static_cast<int>(copies_.size())), [&](const cv::Range& r) {
     for (int i = r.start; i < r.end; ++i) {
-      Copy& c = *copies_[i];
+      const Copy& c = *copies_[i];
+      Slot& slot = entry.slots[i];
       const int nx = c.bad.cols - pw + 1, ny = c.bad.rows - ph + 1;
-      if (ensure_valid(c, pw, ph) == 0) continue;
-      if (!c.window_sq.count(key)) {
-        c.window_sq[key] = window_sums(c.sq_integral, pw, ph, nx, ny);
-        c.window_f1[key] = window_sums(c.f1_integral, pw, ph, nx, ny);
-        c.window_f2[key] = window_sums(c.f2_integral, pw, ph, nx, ny);
+      if (ensure_valid(c, slot, pw, ph) == 0) continue;
+      if (slot.w1.empty()) {
+        slot.w1 = window_sums(c.f1_integral, pw, ph, nx, ny);
+        slot.w2 = window_sums(c.f2_integral, pw, ph, nx, ny);
       }
-      const cv::Mat &w1 = c.window_f1[key], &w2 = c.window_f2[key], &valid = c.valid[key];
+      const cv::Mat &w1 = slot.w1, &w2 = slot.w2, &valid = slot.valid;
       float lo = std::numeric_limits<float>::infinity();
       const float ft1 = static_cast<float>(t1), ft2 = static_cast<float>(t2);
       for (int y = 0; y < ny; ++y) {
@@ -220,7 +267,6 @@ cv::Rect inner_rect(const cv::Mat& mask) {
 std::optional<Match> WoodIndex::best_masked(const cv::Mat& f1, const cv::Mat& f2,
                                             const cv::Mat& mask) {
   const int pw = f1.cols, ph = f1.rows;
-  const SizeKey key{pw, ph};
   cv::Mat m;
   cv::Mat(mask > 0).convertTo(m, CV_32F, 1.0 / 255);
   const cv::Mat mf1 = f1.mul(m), mf2 = f2.mul(m);
@@ -231,15 +277,16 @@ std::optional<Match> WoodIndex::best_masked(const cv::Mat& f1, const cv::Mat& f2
   // the full size are dropped.
   std::vector<double> bound(copies_.size(), 0.0);
   if (const cv::Rect in = inner_rect(mask); in.area() > 0) bound = lower_bounds(f1(in), f2(in));
+  SizeCache& entry = cached(pw, ph);  // after lower_bounds: kept while searching
   for (std::size_t i = 0; i < copies_.size(); ++i) {
-    if (ensure_valid(*copies_[i], pw, ph) == 0) bound[i] = std::numeric_limits<double>::infinity();
+    if (ensure_valid(*copies_[i], entry.slots[i], pw, ph) == 0) bound[i] = std::numeric_limits<double>::infinity();
   }
 
   // Eq. 4 over the mask: sum m (T - S)^2 = sum m T^2 - 2 corr(m T, S) + corr(m, S^2).
   return search(bound, nullptr, [&](int i, std::size_t) {
     thread_local cv::Mat corr, prod, wsq, score;
-    Copy& c = *copies_[i];
-    const cv::Mat& valid = c.valid[key];
+    const Copy& c = *copies_[i];
+    const cv::Mat& valid = entry.slots[i].valid;
     const cv::Rect roi(0, 0, valid.cols, valid.rows);
     cv::filter2D(c.f1, corr, CV_32F, mf1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
     cv::filter2D(c.f2, prod, CV_32F, mf2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
@@ -293,11 +340,11 @@ std::optional<Match> WoodIndex::search(
 std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const cv::Mat& mask) {
   if (!mask.empty() && static_cast<std::size_t>(cv::countNonZero(mask)) < mask.total()) return best_masked(f1, f2, mask);
   const int pw = f1.cols, ph = f1.rows;
-  const SizeKey key{pw, ph};
   const double tsq = f1.dot(f1) + f2.dot(f2);
 
   // Pass 1: a lower bound of eq. 4 per copy.
   const std::vector<double> bound = lower_bounds(f1, f2);
+  SizeCache& entry = cached(pw, ph);  // the entry lower_bounds just used
 
   // The patch's spectra, once per DFT size.
   std::map<SizeKey, std::pair<cv::Mat, cv::Mat>> patch_spec;
@@ -328,8 +375,10 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const
   return search(bound, prepare, [&](int i, std::size_t rank_in_batch) {
     // Per-thread buffers: no allocation per patch.
     thread_local cv::Mat prod, prod2, corr, score;
-    Copy& c = *copies_[i];
-    const cv::Mat& valid = c.valid[key];
+    const Copy& c = *copies_[i];
+    Slot& slot = entry.slots[i];
+    const cv::Mat& valid = slot.valid;
+    if (slot.wsq.empty()) slot.wsq = window_sums(c.sq_integral, pw, ph, valid.cols, valid.rows);
     if (direct) {
       cv::filter2D(c.f1, corr, CV_32F, f1, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
       cv::filter2D(c.f2, prod, CV_32F, f2, cv::Point(0, 0), 0, cv::BORDER_CONSTANT);
@@ -341,7 +390,7 @@ std::optional<Match> WoodIndex::best(const cv::Mat& f1, const cv::Mat& f2, const
       prod += prod2;
       cv::dft(prod, corr, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE, valid.rows);
     }
-    cv::scaleAdd(corr(cv::Rect(0, 0, valid.cols, valid.rows)), -2.0, c.window_sq[key], score);
+    cv::scaleAdd(corr(cv::Rect(0, 0, valid.cols, valid.rows)), -2.0, slot.wsq, score);
     double lo = 0;
     cv::Point at;
     cv::minMaxLoc(score, &lo, nullptr, &at, nullptr, valid);
@@ -380,7 +429,7 @@ void WoodIndex::take(int sheet, const std::vector<cv::Point2d>& polygon) {
   for (int i : copies_of_sheet_[sheet]) {
     Copy& c = *copies_[i];
     fill(c.bad, c.to_copy, 1);
-    refresh(c);
+    refresh(i);
   }
   fill(used_[sheet], cv::Matx23d(1, 0, 0, 0, 1, 0), 255);
 }
@@ -404,7 +453,7 @@ WoodIndex::Snapshot WoodIndex::save() const {
 void WoodIndex::restore(const Snapshot& snapshot) {
   for (std::size_t i = 0; i < copies_.size(); ++i) {
     snapshot.bad[i].copyTo(copies_[i]->bad);
-    refresh(*copies_[i]);
+    refresh(static_cast<int>(i));
   }
   for (std::size_t i = 0; i < used_.size(); ++i) snapshot.used[i].copyTo(used_[i]);
 }

@@ -10,7 +10,9 @@
 // piece is taken; an integral image of each mask rejects windows touching used or unusable
 // wood in O(1), cached per window size until the sheet changes. Masked patches (cells that
 // are not rectangles) are correlated directly, three correlations per copy, pruned by the bound of a rectangle
-// inside the mask. An exact lower bound per copy,
+// inside the mask. The per-window-size maps (free windows, window sums) are kept for the
+// kCachedSizes most recently used sizes only, so memory does not grow with the number of
+// cell shapes (a morphed grid has about a hundred). An exact lower bound per copy,
 // (sum of differences)^2 / n per feature over its free windows, orders the copies and skips
 // those that cannot beat the best found so far (about 70% of them). Copies are searched in
 // parallel batches (cv::parallel_for_).
@@ -25,6 +27,7 @@
 
 #include <array>
 #include <functional>
+#include <list>
 #include <map>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -86,11 +89,27 @@ class WoodIndex {
 
   std::size_t copies() const { return copies_.size(); }
 
+  // Window sizes whose per-copy maps (free windows, window sums: 13 bytes per window
+  // position) are kept; the least recently used size is freed in every copy when another
+  // is needed. A regular grid uses one size, dp cuts four (border and inner windows), a
+  // morphed grid one per cell outline (about 94 at 1.97 px/mm, each used about twice).
+  static constexpr std::size_t kCachedSizes = 4;
+
+  // Bytes held now by the per-size maps, and by everything the index holds (the copies'
+  // images, features, spectra, integral images, masks, and the per-size maps).
+  std::size_t cache_bytes() const;
+  std::size_t bytes() const;
+
  private:
   struct Copy;
-  static void refresh(Copy& c);
-  // Windows of size `key` wholly on free wood in `c` (255), cached; returns their count.
-  static int ensure_valid(Copy& c, int pw, int ph);
+  struct Slot;
+  struct SizeCache;
+  // Recomputes copy i's mask integral and drops its free-window maps (the mask changed).
+  void refresh(int i);
+  // The maps of window size pw x ph, most recently used first (evicting the oldest size).
+  SizeCache& cached(int pw, int ph);
+  // Windows of size pw x ph wholly on free wood in `c` (255), kept in `slot`; their count.
+  static int ensure_valid(const Copy& c, Slot& slot, int pw, int ph);
   // Per copy: a lower bound of eq. 4 for patch (f1, f2) over its free windows (infinite
   // where none is free): (sum of differences)^2 / n per feature, from integral images.
   std::vector<double> lower_bounds(const cv::Mat& f1, const cv::Mat& f2);
@@ -106,6 +125,7 @@ class WoodIndex {
   double px_per_mm_;
   double grow_px_;  // kerf + half a pixel diagonal
   std::vector<std::unique_ptr<Copy>> copies_;
+  std::list<SizeCache> cache_;  // at most kCachedSizes entries
   std::vector<std::vector<int>> copies_of_sheet_;
   std::vector<cv::Mat> used_;  // per sheet, CV_8UC1 255 = used (copy 0's frame)
   std::vector<cv::Mat> usable_;
