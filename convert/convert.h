@@ -34,6 +34,9 @@ struct ConvertRequest {
   std::string params_source = "parameters";  // for error messages
   std::filesystem::path output_dir;   // created if missing; outputs are written here
   ImageLimits limits;
+  // The conversion's memory budget in MB ([limits] job_memory_mb, atelier-convert --memory-mb);
+  // 0 = none. Kinds that can estimate their peak memory refuse a job above it before starting.
+  uint64_t memory_mb = 0;
   // What the conversion may read for path-valued parameters that a job set (sidecar, job file,
   // --set): confined to the spool and [spool] allow_paths when atelier-convert was given
   // --confine, unconfined otherwise (job_paths.h).

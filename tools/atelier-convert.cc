@@ -309,6 +309,7 @@ int main(int argc, char** argv) {
     req.params_source = "parameters";
     req.output_dir = output_dir;
     req.limits = limits;
+    req.memory_mb = memory_mb;
     req.paths = std::move(paths);
     for (const auto& w : with) req.together.push_back({w.at(0), w.at(1)});
     req.progress = [&progress](double f) { progress(f); };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include <set>
 
 #include "algorithms/laser/plan.h"
+#include "algorithms/parquetry/memory_estimate.h"
 #include "algorithms/parquetry/plan.h"
 #include "algorithms/parquetry/render.h"
 #include "convert/common/output_files.h"
@@ -327,6 +329,41 @@ json write_target(const Target& t, const parquetry::Plan& plan,
   return r;
 }
 
+// "3.1 GB" / "640 MB".
+std::string megabytes(double bytes) {
+  const double mb = bytes / (1 << 20);
+  char buf[32];
+  if (mb >= 1024) std::snprintf(buf, sizeof buf, "%.1f GB", mb / 1024);
+  else std::snprintf(buf, sizeof buf, "%.0f MB", mb);
+  return buf;
+}
+
+// Refuses a plan whose estimated peak memory is above the budget, before anything is matched
+// (the scans' sizes from their headers, the targets' from the decoded images).
+void check_memory_budget(const std::vector<Target>& targets, const std::vector<SheetEntry>& wood,
+                         const ParquetryParams& p, const PathAccess& access, uint64_t budget_mb) {
+  if (budget_mb == 0) return;
+  std::vector<parquetry::SheetSize> sheets;
+  for (const SheetEntry& e : wood) {
+    // A scan this job may not open, or that is no image, is load_sheets' to report.
+    if (!access.is_file(e.image)) continue;
+    try {
+      const ImageHeader h = probe_image(e.image);
+      sheets.push_back({cv::Size(static_cast<int>(h.width), static_cast<int>(h.height)), e.dpi,
+                        !e.mask.empty()});
+    } catch (const ConvertError&) {
+    }
+  }
+  std::vector<cv::Size> sizes;
+  for (const Target& t : targets) sizes.push_back(t.image.size());
+  const parquetry::MemoryEstimate e = parquetry::estimate_plan_memory(sheets, sizes, p.plan);
+  if (e.total_bytes <= static_cast<double>(budget_mb) * (1 << 20)) return;
+  throw ConvertError(safe_text(targets.front().input.filename().string()) + ": the parquetry plan needs about " +
+                     megabytes(e.total_bytes) + " (" + parquetry::memory_drivers(sheets, p.plan) +
+                     "), above the " + std::to_string(budget_mb) +
+                     " MB budget (limits.job_memory_mb); lower px_per_mm or rotations, or use fewer sheets");
+}
+
 }  // namespace
 
 ConvertResult convert_parquetry(const ConvertRequest& req) {
@@ -364,6 +401,7 @@ ConvertResult convert_parquetry(const ConvertRequest& req) {
     }
     t.image = to_8bit(load_image(t.input, req.limits));
   }
+  check_memory_budget(targets, wood, p, wood_access, req.memory_mb);
   // Held until the new pieces are recorded: no other conversion plans this wood meanwhile,
   // and the scans are read under it (a sheet removed or replaced meanwhile is not planned).
   // A job converted again (retry, crash recovery) plans on new wood: its earlier pieces stay

@@ -399,3 +399,33 @@ TEST_F(ParquetryJobTest, CommandLineToolPlansTargetsGivenWithTogether) {
 
 }  // namespace
 }  // namespace atelier
+
+namespace atelier {
+namespace {
+
+// Issue 23: a plan whose estimated memory is above [limits] job_memory_mb is refused before
+// any matching (12 sheets x 4 rotations of 160 mm scans at 8 px/mm: several GB), naming the
+// file, the estimate, what drives it and the budget; the same job at 0.5 px/mm runs.
+TEST_F(ParquetryJobTest, APlanAboveTheMemoryBudgetIsRefusedBeforeMatching) {
+  ConvertRequest req = request(small_job("px_per_mm = 8\n"), kData / "fruits.jpg", "big");
+  req.memory_mb = 2048;
+  try {
+    convert(req);
+    FAIL() << "a plan of several GB ran under a 2048 MB budget";
+  } catch (const ConvertError& e) {
+    const std::string m = e.what();
+    EXPECT_THAT(m, ::testing::MatchesRegex("fruits\\.jpg: the parquetry plan needs about [0-9.]+ GB "
+                                           "\\(12 sheets x 4 rotations at 8 px/mm\\), above the 2048 MB "
+                                           "budget \\(limits\\.job_memory_mb\\); lower px_per_mm or "
+                                           "rotations, or use fewer sheets"));
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "big")) << "outputs were written";
+
+  ConvertRequest small = request(small_job(), kData / "fruits.jpg", "small");
+  small.memory_mb = 2048;
+  const ConvertResult r = convert(small);
+  EXPECT_GT(r.report["pieces"].get<int>(), 0);
+}
+
+}  // namespace
+}  // namespace atelier
