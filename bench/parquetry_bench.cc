@@ -10,7 +10,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <fstream>
 #include <string>
+#include <sys/resource.h>
 
 #include "algorithms/parquetry/plan.h"
 
@@ -18,7 +20,7 @@ namespace {
 
 using namespace atelier::parquetry;
 
-std::vector<Sheet> wood(int count) {
+std::vector<Sheet> wood(int count, double dpi = 25.4) {
   const std::filesystem::path dir =
       std::filesystem::path(ATELIER_TEST_DATA) / "wood";
   std::vector<std::filesystem::path> files;
@@ -31,7 +33,7 @@ std::vector<Sheet> wood(int count) {
   }
   std::vector<Sheet> sheets;
   for (int i = 0; i < count; ++i) {
-    Sheet s{files[i].stem().string(), cv::imread(files[i].string(), cv::IMREAD_COLOR), {}, 25.4};
+    Sheet s{files[i].stem().string(), cv::imread(files[i].string(), cv::IMREAD_COLOR), {}, dpi};
     sheets.push_back(s);
   }
   return sheets;
@@ -83,6 +85,73 @@ BENCHMARK(BM_ParquetryPlan)
     ->Args({14, 9, 6, 15, 0})    // and half the wood
     ->Args({28, 17, 12, 15, 1})  // the target on a morphed grid
     ->Args({20, 12, 12, 15, 2})  // dp cuts: windows 1.7x the patch area, so fewer patches fit
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// Peak RSS of what runs after reset_peak(): /proc/self/clear_refs "5" resets VmHWM (Linux);
+// when it cannot be written, getrusage's maximum since the process started.
+bool reset_peak() {
+  std::ofstream f("/proc/self/clear_refs");
+  return static_cast<bool>(f << "5") && static_cast<bool>(f.flush());
+}
+double peak_rss_mb() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024;  // kB
+  }
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024;
+}
+
+// The WoodPixel setting of issue 23 on one input: butterfly.jpg as 12 x 16 = 192 pieces of
+// 9.144 mm, 12 wood scans read at 50 dpi (1.9685 px/mm, the working resolution too), 15
+// rotations, w_intens = w_edge = w_hist = 0.5, saliency order. Arg: 0 regular, 1 dp, 2 morphed.
+// Counters: seconds, peak RSS of this plan (MB), pieces, blurred SSIM (Plan::ssim).
+void BM_ParquetryWoodPixel(benchmark::State& state) {
+  const auto sheets = wood(12, 50.0);
+  const std::string path = std::string(ATELIER_TEST_DATA) + "/butterfly.jpg";
+  const cv::Mat photo = cv::imread(path, cv::IMREAD_COLOR);
+  if (photo.empty()) throw std::runtime_error("parquetry_bench: cannot read " + path);
+  Params p;
+  p.patch_mm = 9.144;
+  p.px_per_mm = 1.9685;
+  p.size_mm = 12 * p.patch_mm;
+  p.rotations = 15;
+  const int shapes = static_cast<int>(state.range(0));
+  if (shapes == 1) p.refine = Refine::dp;
+  if (shapes == 2) p.grid = Grid::morphed;
+  double seconds = 0, peak = 0, ssim = 0, pieces = 0;
+  bool reset = true;
+  std::string failed;
+  for (auto _ : state) {
+    reset = reset_peak() && reset;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      const Plan plan = make_plan(photo, sheets, Stock{}, p);
+      pieces = static_cast<double>(plan.pieces.size());
+      ssim = plan.ssim;
+    } catch (const Unfabricable& e) {
+      failed = e.what();  // the memory and time figures still hold
+    }
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    peak = std::max(peak, peak_rss_mb());
+  }
+  state.SetLabel(std::string("butterfly 192 x 9.144 mm, 12 sheets at 50 dpi, 15 rotations, 1.97 px/mm, ") +
+                 grid_name(p.grid) + "/" + refine_name(p.refine) +
+                 (reset ? "" : ", peak RSS since start (clear_refs not writable)") +
+                 (failed.empty() ? "" : ", NOT FABRICABLE: " + failed));
+  state.counters["seconds"] = seconds / static_cast<double>(state.iterations());
+  state.counters["peak_rss_mb"] = peak;
+  state.counters["pieces"] = pieces;
+  state.counters["ssim"] = ssim;
+}
+BENCHMARK(BM_ParquetryWoodPixel)
+    ->Arg(0)  // regular
+    ->Arg(1)  // dp
+    ->Arg(2)  // morphed
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);
