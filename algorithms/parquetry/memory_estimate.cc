@@ -25,7 +25,7 @@ constexpr double kSizeBytesPerPx = 13;
 MemoryEstimate estimate_plan_memory(const std::vector<SheetSize>& sheets,
                                     const std::vector<cv::Size>& targets, const Params& p) {
   MemoryEstimate e;
-  const double r = p.px_per_mm;
+  const double r = working_px_per_mm(p);
   const int rotations = std::max(1, p.rotations);
   double canvas_px = 0, largest_dft = 0;
   for (const SheetSize& s : sheets) {
@@ -81,7 +81,7 @@ MemoryEstimate estimate_plan_memory(const std::vector<SheetSize>& sheets,
 std::string memory_drivers(const std::vector<SheetSize>& sheets, const Params& p) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "%zu sheet%s x %d rotation%s at %.3g px/mm", sheets.size(),
-                sheets.size() == 1 ? "" : "s", p.rotations, p.rotations == 1 ? "" : "s", p.px_per_mm);
+                sheets.size() == 1 ? "" : "s", p.rotations, p.rotations == 1 ? "" : "s", working_px_per_mm(p));
   return buf;
 }
 

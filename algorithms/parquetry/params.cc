@@ -1,5 +1,6 @@
 #include "algorithms/parquetry/params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -62,13 +63,21 @@ void validate(const Params& p) {
     fail("adaptive_levels needs the regular grid without refinement");
   }
   if (p.refine == Refine::dp) {
-    const int patch = static_cast<int>(std::lround(p.patch_mm * p.px_per_mm));
+    const int patch = patch_px(p);
     const int half = std::max(1, static_cast<int>(std::lround(p.overlap * patch / 2)));
-    if ((patch - 2 * half) / p.px_per_mm < kMinPatchMm - 1e-9) {
+    if ((patch - 2 * half) / working_px_per_mm(p) < kMinPatchMm - 1e-9) {
       fail("refine = dp needs patch_mm large enough that the part of a patch outside the "
            "overlaps stays at least 5 mm (raise patch_mm or px_per_mm, or lower overlap)");
     }
   }
 }
+
+int patch_px(const Params& p) {
+  const int unit = 1 << std::clamp(p.adaptive_levels, 0, 4);
+  const long whole = std::lround(p.patch_mm * p.px_per_mm / unit) * unit;
+  return static_cast<int>(std::max<long>({2, unit, whole}));
+}
+
+double working_px_per_mm(const Params& p) { return patch_px(p) / p.patch_mm; }
 
 }  // namespace atelier::parquetry

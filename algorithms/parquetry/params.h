@@ -50,7 +50,9 @@ struct Params {
   double min_feature_mm = 2.0;
   // Working resolution. 0.5 px/mm (2 mm pixels, a 14 mm patch is 7x7 px) keeps the paper's
   // eye (28x17 patches, 15 rotations, 12 sheets) under 10 s on 2 cores; matching cost grows
-  // with the square of this. patch_mm * px_per_mm is rounded to whole pixels.
+  // with the square of this. The plan works at working_px_per_mm(), this nudged so that a
+  // patch is a whole number of pixels: the pieces are always patch_mm, whatever the
+  // resolution.
   double px_per_mm = 0.5;
 };
 
@@ -58,5 +60,14 @@ struct Params {
 inline constexpr double kMinPatchMm = 5.0;
 
 void validate(const Params& params);
+
+// The resolution a plan works at (px per mm): px_per_mm moved to the nearest value at which
+// patch_mm is a whole number of pixels, a multiple of 2^adaptive_levels (so quarters split
+// exactly) and at least 2. A 9.144 mm patch at 0.5 px/mm is 5 px at 0.547 px/mm, not 10 mm
+// of 5 px at 0.5. Needs a valid patch_mm and adaptive_levels.
+double working_px_per_mm(const Params& params);
+
+// Edge of a patch in working pixels: patch_mm * working_px_per_mm(), exact.
+int patch_px(const Params& params);
 
 }  // namespace atelier::parquetry

@@ -65,7 +65,7 @@ struct Job {
 
 void prepare(Job& job, const cv::Mat& target_in, const Params& p) {
   const double r = p.px_per_mm;
-  job.patch = static_cast<int>(std::lround(p.patch_mm * r));
+  job.patch = patch_px(p);
   const cv::Mat bgr = to_bgr(target_in);
   const double scale = p.size_mm * r / std::min(bgr.cols, bgr.rows);
   const cv::Size scaled(std::max(1, static_cast<int>(std::lround(bgr.cols * scale))),
@@ -138,8 +138,12 @@ void finish(Job& job, const WoodIndex& wood, const std::vector<Sheet>& sheets, d
 
 std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
                              const std::vector<Sheet>& sheets, const Stock& stock,
-                             const Params& p) {
-  validate(p);
+                             const Params& params) {
+  validate(params);
+  // Everything below works at the resolution where a patch is whole pixels, so pieces come
+  // out patch_mm exactly.
+  Params p = params;
+  p.px_per_mm = working_px_per_mm(params);
   validate_sheets(sheets);
   if (targets.empty()) throw std::invalid_argument("parquetry: no target image");
   for (const cv::Mat& t : targets) {

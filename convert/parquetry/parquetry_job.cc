@@ -141,6 +141,7 @@ json params_json(const ParquetryParams& p, const std::vector<SheetEntry>& wood) 
           {"min_feature_mm", q.min_feature_mm},
           {"seed", q.seed},
           {"px_per_mm", q.px_per_mm},
+          {"working_px_per_mm", parquetry::working_px_per_mm(q)},
           {"stock", p.stock_dir ? json(safe_text(p.stock_dir->string())) : json(nullptr)}};
 }
 
@@ -273,7 +274,7 @@ json write_target(const Target& t, const parquetry::Plan& plan,
       ++n;
       used += std::abs(parquetry::polygon_area(piece.source_mm));
     }
-    const double free_after = parquetry::free_area_mm2({sheet}, stock_after, p.plan.px_per_mm, p.plan.kerf_mm);
+    const double free_after = parquetry::free_area_mm2({sheet}, stock_after, parquetry::working_px_per_mm(p.plan), p.plan.kerf_mm);
     sheet_report.push_back({{"id", id}, {"pieces", n}, {"used_mm2", round3(used)}, {"free_mm2", round3(free_after)}});
   }
   json splits = json::array();

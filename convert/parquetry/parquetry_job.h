@@ -27,7 +27,7 @@
 //   preview.png      the result rendered from the scans (algorithms/parquetry/render.h)
 //   report.json      pieces, grid, size, per sheet {id, pieces, used_mm2, free_mm2 after this
 //                    job}, errors (reconstruction, baseline, target mean), seam costs, splits,
-//                    laser figures, sheets_order, params
+//                    laser figures, sheets_order, params (and working_px_per_mm, params.h)
 // Not thread-safe per request; separate requests may run concurrently (the stock lock
 // serialises those sharing a stock).
 #pragma once

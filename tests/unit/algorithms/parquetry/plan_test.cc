@@ -179,6 +179,36 @@ TEST_P(ParquetryResolution, ThePieceCutIsTheWoodShown) {
 }
 INSTANTIATE_TEST_SUITE_P(ParquetryCorrelation, ParquetryResolution, ::testing::Values(0.5, 1.0));
 
+// The working resolution is a matter of matching quality only: pieces are the patch_mm the
+// user asked for (WoodPixel's 9.144 mm would be 10 mm of 5 px at 0.5 px/mm).
+class ParquetryPieceSize : public ::testing::TestWithParam<double> {};
+
+TEST_P(ParquetryPieceSize, PiecesArePatchMmAtAnyResolution) {
+  const auto sheets = real_wood(false);
+  Params p;
+  p.patch_mm = 9.144;
+  p.size_mm = 40;  // 4 rows
+  p.rotations = 3;
+  p.px_per_mm = GetParam();
+  const Plan plan = make_plan(photo("butterfly.jpg"), sheets, Stock{}, p);
+  EXPECT_EQ(plan.grid_rows, 4);
+  EXPECT_NEAR(plan.width_mm, plan.grid_cols * 9.144, 1e-9);
+  EXPECT_NEAR(plan.height_mm, 4 * 9.144, 1e-9);
+  ASSERT_EQ(plan.pieces.size(), static_cast<std::size_t>(plan.grid_cols * 4));
+  for (const Piece& piece : plan.pieces) {
+    for (const auto* outline : {&piece.source_mm, &piece.target_mm}) {
+      ASSERT_EQ(outline->size(), 4u);
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_NEAR(cv::norm((*outline)[(k + 1) % 4] - (*outline)[k]), 9.144, 0.01) << "piece " << piece.id;
+      }
+    }
+  }
+  // Target and reconstruction are the trimmed result at the working resolution.
+  EXPECT_NEAR(plan.target.cols / plan.width_mm, working_px_per_mm(p), 1e-9);
+  EXPECT_NEAR(working_px_per_mm(p), p.px_per_mm, 0.5 * p.px_per_mm / patch_px(p) + 1e-12);
+}
+INSTANTIATE_TEST_SUITE_P(WoodPixelsPatch, ParquetryPieceSize, ::testing::Values(0.5, 0.55, 1.97));
+
 TEST(ParquetryPlan, GrainBeatsTheMeanColourBaselines) {
   const auto sheets = real_wood(false);
   // Defaults: the wood's grain brings the picture closer than the same wood in flat colours
@@ -237,8 +267,9 @@ TEST(ParquetryPlan, AdaptivePatchesSplitOnlyWhenCheaper) {
   p.size_mm = 56;  // 4 x 4 patches
   p.adaptive_levels = 2;
   const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
-  // 14 mm patches split into 6 and 8 mm quarters (7 px into 3 + 4 at 0.5 px/mm); those are
-  // not split again: their quarters would be below 5 mm.
+  // 14 mm patches split into 7 mm quarters (the working resolution is 8/14 px/mm, so a patch
+  // is 8 px and its quarters 4 px exactly); those are not split again: theirs would be
+  // below 5 mm.
   ASSERT_EQ(plan.splits.size(), 16u);
   int split = 0;
   for (const SplitDecision& d : plan.splits) {
@@ -252,7 +283,7 @@ TEST(ParquetryPlan, AdaptivePatchesSplitOnlyWhenCheaper) {
     if (piece.level == 0) {
       EXPECT_NEAR(edge, 14.0, 1e-6);
     } else {
-      EXPECT_TRUE(std::abs(edge - 6) < 1e-6 || std::abs(edge - 8) < 1e-6) << edge;
+      EXPECT_NEAR(edge, 7.0, 1e-6);
     }
     EXPECT_LE(piece.level, 1);
   }
