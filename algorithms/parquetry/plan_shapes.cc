@@ -79,11 +79,51 @@ int overlap_half(int patch, const Params& p) {
   return std::max(1, static_cast<int>(std::lround(p.overlap * patch / 2)));
 }
 
-// The piece's problem, if any, for an outline in result px.
+// The piece's problem, if any, for an outline in result px: the same check as
+// check_fabricable() runs on the piece (its outline in mm, flattened within kFlattenMm).
 std::optional<std::string> problem_of(const Outline& outline_px, double r, const Params& p) {
-  std::vector<cv::Point2d> mm = flatten(outline_px, 0.05);
-  for (cv::Point2d& q : mm) q *= 1 / r;
-  return fabricability_problem(mm, kMinPatchMm, p.min_feature_mm);
+  const Outline mm = transformed(outline_px, cv::Matx23d(1 / r, 0, 0, 0, 1 / r, 0));
+  return fabricability_problem(flatten(mm, kFlattenMm), kMinPatchMm, p.min_feature_mm);
+}
+
+// Margin of the morph over the smallest piece (mm): the curves through the vertices bow a
+// cell's straight edges inwards, and a quad near a triangle has an inscribed circle of about
+// 2/3 of its heights, so cells kept exactly at the minimum came out below it.
+constexpr double kMorphMarginMm = 0.5;
+// Rounds of straightening a morphed grid's uncuttable cells (each halves their corners'
+// distance to the regular grid; after 8 they are within 1/256 of it).
+constexpr int kStraightenRounds = 8;
+
+// The outlines of the morphed `lines`, with every cell that fails check_fabricable()'s check
+// moved back towards the regular grid (its four corners halfway, border vertices along their
+// border) until it passes: a plan asked for comes out cuttable, keeping the morph wherever it
+// already is. Cells still failing after kStraightenRounds stay (check_fabricable names them).
+std::vector<Outline> cuttable_outlines(GridLines lines, double pitch, const Params& p) {
+  const int cols = lines.cols, rows = lines.rows;
+  std::vector<Outline> outlines = cell_outlines(lines);
+  for (int round = 0; round < kStraightenRounds; ++round) {
+    std::vector<char> move((cols + 1) * (rows + 1), 0);
+    bool any = false;
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        if (!problem_of(outlines[r * cols + c], p.px_per_mm, p)) continue;
+        any = true;
+        for (int j : {r, r + 1})
+          for (int i : {c, c + 1}) move[j * (cols + 1) + i] = 1;
+      }
+    }
+    if (!any) break;
+    for (int j = 0; j <= rows; ++j) {
+      for (int i = 0; i <= cols; ++i) {
+        if (!move[j * (cols + 1) + i]) continue;
+        // Vertex (i, j) is point j of vertical line i and point i of horizontal line j.
+        const cv::Point2d q = 0.5 * (lines.vertical[i][j] + cv::Point2d(i * pitch, j * pitch));
+        lines.vertical[i][j] = lines.horizontal[j][i] = q;
+      }
+    }
+    outlines = cell_outlines(lines);
+  }
+  return outlines;
 }
 
 }  // namespace
@@ -98,8 +138,9 @@ Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const P
   const cv::Rect all(0, 0, cols * patch, rows * patch);
   if (p.grid == Grid::morphed) {
     // Cells keep at least half a patch (and 5 mm) across, so they stay easy to cut and lay.
-    const double min_edge = std::max(kMinPatchMm, p.patch_mm / 2) * p.px_per_mm;
-    s.outlines = cell_outlines(morph_grid(target, cols, rows, patch, min_edge));
+    const double min_edge_mm = std::min(p.patch_mm, std::max(kMinPatchMm, p.patch_mm / 2) + kMorphMarginMm);
+    const GridLines lines = morph_grid(target, cols, rows, patch, min_edge_mm * p.px_per_mm);
+    s.outlines = cuttable_outlines(lines, patch, p);
     for (const Outline& o : s.outlines) {
       const std::vector<cv::Point2d> poly = flatten(o, 0.05);
       double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "algorithms/parquetry/fabricability.h"
+#include "algorithms/parquetry/grid_morph.h"
 #include "algorithms/parquetry/plan.h"
 
 namespace atelier::parquetry {
@@ -401,6 +402,58 @@ TEST_P(ParquetryShapes, CurvedPiecesTileTheResultAndCanBeCut) {
   EXPECT_LT(plan.error, plan.baseline_error);
 }
 INSTANTIATE_TEST_SUITE_P(MorphedAndDp, ParquetryShapes, ::testing::Values(0, 1));
+
+// Mean distance (px of the plan's target) from the edges the morph follows to the nearest cut.
+double edges_to_cuts(const Plan& plan, double px_per_mm, double pitch_px) {
+  const cv::Mat edges = morph_edges(plan.target, pitch_px);
+  cv::Mat cuts(plan.target.size(), CV_8UC1, cv::Scalar(255));
+  for (const Piece& piece : plan.pieces) {
+    std::vector<cv::Point> pts;  // 4 fractional bits; pixel centres at (x + 0.5, y + 0.5)
+    for (const cv::Point2d& q : piece.target_mm) {
+      pts.emplace_back(cvRound((q.x * px_per_mm - 0.5) * 16), cvRound((q.y * px_per_mm - 0.5) * 16));
+    }
+    cv::polylines(cuts, std::vector<std::vector<cv::Point>>{pts}, true, cv::Scalar(0), 1, cv::LINE_8, 4);
+  }
+  cv::Mat dist;
+  cv::distanceTransform(cuts, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return cv::mean(dist, edges)[0];
+}
+
+// Morphed grids of WoodPixel's 9.144 mm pieces on photos whose morph pinched cells below 5 mm
+// (fruits at 0.5 px/mm: "piece 47 is 5.0 mm across", HappyFish at 1.97: "piece 82 is
+// 4.8 mm across") come out cuttable, and still follow the photo's edges.
+class ParquetryMorphedPieces
+    : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
+
+TEST_P(ParquetryMorphedPieces, AreCuttableAndFollowTheEdges) {
+  auto sheets = real_wood(false);
+  sheets.resize(4);  // the shapes depend on the target only
+  Params p;
+  p.patch_mm = 9.144;
+  p.size_mm = 128;  // 14 rows, about 200 pieces
+  p.rotations = 1;
+  p.px_per_mm = std::get<1>(GetParam());
+  p.grid = Grid::morphed;
+  const cv::Mat target = photo(std::get<0>(GetParam()));
+  const Plan morphed = make_plan(target, sheets, Stock{}, p);  // throws Unfabricable if not
+  ASSERT_EQ(morphed.grid_rows, 14);
+  for (const Piece& piece : morphed.pieces) {
+    EXPECT_EQ(fabricability_problem(piece.target_mm, kMinPatchMm, p.min_feature_mm), std::nullopt)
+        << "piece " << piece.id;
+  }
+  p.grid = Grid::regular;
+  const Plan regular = make_plan(target, sheets, Stock{}, p);
+  const double r = working_px_per_mm(p);
+  // Straightening keeps the morph where it was cuttable: the edges still lie closer to the
+  // cuts than on the regular grid (0.71-0.90 of its distance here).
+  const double morphed_gap = edges_to_cuts(morphed, r, patch_px(p));
+  const double regular_gap = edges_to_cuts(regular, r, patch_px(p));
+  EXPECT_LT(morphed_gap, 0.92 * regular_gap) << morphed_gap << " vs " << regular_gap << " px";
+}
+INSTANTIATE_TEST_SUITE_P(
+    WoodPixelsPatch, ParquetryMorphedPieces,
+    ::testing::Values(std::make_tuple("fruits.jpg", 0.5), std::make_tuple("fruits.jpg", 1.97),
+                      std::make_tuple("HappyFish.jpg", 1.97), std::make_tuple("butterfly.jpg", 0.5)));
 
 TEST(ParquetryPlan, SeveralTargetsPlannedTogetherShareNoWood) {
   const auto sheets = real_wood(false);
