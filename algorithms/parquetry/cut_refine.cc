@@ -23,6 +23,7 @@ void validate(const SeamInput& in) {
         "target features must be CV_32F of the result size");
   const std::size_t n = static_cast<std::size_t>(in.cols * in.rows);
   check(in.wood_f1.size() == n && in.wood_f2.size() == n, "needs wood features for every cell");
+  check(in.available.empty() || in.available.size() == n, "needs the available wood of every cell");
   for (int r = 0; r < in.rows; ++r) {
     for (int c = 0; c < in.cols; ++c) {
       const std::size_t k = static_cast<std::size_t>(r * in.cols + c);
@@ -31,11 +32,17 @@ void validate(const SeamInput& in) {
                 in.wood_f2[k].type() == CV_32F && in.wood_f2[k].size() == s,
             "wood features of cell (" + std::to_string(c) + ", " + std::to_string(r) +
                 ") must be CV_32F over its window");
+      check(in.available.empty() || (in.available[k].type() == CV_8UC1 && in.available[k].size() == s),
+            "available wood of cell (" + std::to_string(c) + ", " + std::to_string(r) +
+                ") must be CV_8UC1 over its window");
     }
   }
 }
 
-// Eq. 8 per pixel: squared feature difference between a cell's wood and the target.
+// Eq. 8 per pixel: squared feature difference between a cell's wood and the target; a pixel
+// the cell's wood cannot give costs more than any cut could save.
+constexpr double kUnavailable = 1e15;
+
 class PixelError {
  public:
   explicit PixelError(const SeamInput& in) : in_(in) {
@@ -51,6 +58,7 @@ class PixelError {
                              ") given to cell " + std::to_string(cell) + " outside its window");
     }
     const std::size_t k = static_cast<std::size_t>(cell);
+    if (!in_.available.empty() && !in_.available[k].at<uchar>(y - w.y, x - w.x)) return kUnavailable;
     const double d1 = in_.wood_f1[k].at<float>(y - w.y, x - w.x) - in_.target_f1.at<float>(y, x);
     const double d2 = in_.wood_f2[k].at<float>(y - w.y, x - w.x) - in_.target_f2.at<float>(y, x);
     return d1 * d1 + d2 * d2;

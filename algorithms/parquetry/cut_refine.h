@@ -21,6 +21,9 @@ struct SeamInput {
   cv::Mat target_f1, target_f2;              // CV_32F, H x W: target features (eq. 1-2)
   std::vector<cv::Mat> wood_f1, wood_f2;     // per cell, row-major: the matched wood's features over
                                              // cell_window(c, r) (CV_32F of that size)
+  // Per cell (or empty = all): CV_8UC1 over its window, 255 where its wood may be used; a
+  // cut never gives a cell a pixel outside. Each cell's core must be available.
+  std::vector<cv::Mat> available;
 };
 
 // Window of cell (c, r) in result px, clipped to the result.

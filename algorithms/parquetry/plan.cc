@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "algorithms/parquetry/dp_wood.h"
 #include "algorithms/parquetry/features.h"
 #include "algorithms/parquetry/order.h"
 #include "algorithms/parquetry/plan_shapes.h"
@@ -216,9 +217,21 @@ std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
     }
   }
 
+  // refine = dp: the wood each cell's cuts may use, among the pieces of every target.
+  std::vector<const Placed*> all;
+  for (const Job& job : jobs) {
+    for (const Placed& pl : job.placed) all.push_back(&pl);
+  }
+  std::vector<cv::Mat> available;
+  if (p.refine == Refine::dp) available = available_wood(all, sheets, stock, wood, r, p.kerf_mm);
+  std::size_t first = 0;
+
   std::vector<Plan> plans;
   for (Job& job : jobs) {
-    const SeamCosts seams = final_outlines(job.shapes, job.f1, job.f2, wood, p, job.placed);
+    const std::vector<cv::Mat> mine(available.begin() + std::min(first, available.size()),
+                                    available.begin() + std::min(first + job.placed.size(), available.size()));
+    first += job.placed.size();
+    const SeamCosts seams = final_outlines(job.shapes, job.f1, job.f2, wood, mine, p, job.placed);
     job.plan.seam_cost_straight = seams.straight;
     job.plan.seam_cost_refined = seams.refined;
     finish(job, wood, sheets, r);

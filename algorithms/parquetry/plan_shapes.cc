@@ -126,6 +126,23 @@ std::vector<Outline> cuttable_outlines(GridLines lines, double pitch, const Para
   return outlines;
 }
 
+// Every pixel whose centre the outline (result px) covers lies in `rect` and is available.
+bool inside_available(const Outline& outline_px, const cv::Rect& rect, const cv::Mat& available) {
+  constexpr int kShift = 8;
+  std::vector<cv::Point> poly;
+  for (const cv::Point2d& q : flatten(outline_px, 0.05)) {
+    poly.emplace_back(static_cast<int>(std::lround((q.x - rect.x - 0.5) * (1 << kShift))),
+                      static_cast<int>(std::lround((q.y - rect.y - 0.5) * (1 << kShift))));
+  }
+  // One pixel of border catches the outline leaving the window.
+  cv::Mat inside = cv::Mat::zeros(rect.height + 2, rect.width + 2, CV_8UC1);
+  for (cv::Point& q : poly) q += cv::Point(1 << kShift, 1 << kShift);
+  cv::fillPoly(inside, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255), cv::LINE_8, kShift);
+  cv::Mat allowed = cv::Mat::zeros(inside.size(), CV_8UC1);
+  available.copyTo(allowed(cv::Rect(1, 1, rect.width, rect.height)));
+  return cv::countNonZero(inside & ~allowed) == 0;
+}
+
 }  // namespace
 
 Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const Params& p) {
@@ -171,10 +188,15 @@ Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const P
       const cv::Rect rect = p.refine == Refine::dp ? cell_window(grid, c, r) : core;
       s.rects.push_back(rect);
       s.outlines.push_back(polygon_outline(corners(core)));
-      s.wood_px += rect.area();
+      s.wood_px += core.area();
     }
   }
   return s;
+}
+
+cv::Rect cell_core(const Shapes& shapes, int cell) {
+  return {(cell % shapes.cols) * shapes.patch, (cell / shapes.cols) * shapes.patch, shapes.patch,
+          shapes.patch};
 }
 
 bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat& f2,
@@ -184,21 +206,30 @@ bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat
     return place_square(cell, shapes.rects[cell], 0, f1, f2, wood, p, placed, splits).has_value();
   }
   const cv::Rect& rect = shapes.rects[cell];
+  if (shapes.refine == Refine::dp) {
+    // The core is matched and taken as on the regular grid (same wood, same plan when every
+    // cut stays straight); the match is then widened to the cell's window, whose overlap
+    // the cuts may use where no other piece needs the wood (dp_wood.h).
+    const cv::Rect core = cell_core(shapes, cell);
+    std::optional<Match> m = wood.best(f1(core), f2(core));
+    if (!m) return false;
+    take(wood, *m, core, corners(core));
+    m->pos -= core.tl() - rect.tl();
+    m->size = rect.size();
+    placed.push_back({cell, rect, *m, 0, shapes.outlines[cell], core});
+    return true;
+  }
   const cv::Mat mask = shapes.masks.empty() ? cv::Mat() : shapes.masks[cell];
   const std::optional<Match> m = wood.best(f1(rect), f2(rect), mask);
   if (!m) return false;
-  // A morphed cell takes its own shape; a dp window all of it until the cuts are known.
-  if (shapes.grid == Grid::morphed) {
-    take(wood, *m, rect, flatten(shapes.outlines[cell], 0.05));
-  } else {
-    take(wood, *m, rect, corners(rect));
-  }
-  placed.push_back({cell, rect, *m, 0, shapes.outlines[cell]});
+  take(wood, *m, rect, flatten(shapes.outlines[cell], 0.05));  // a morphed cell's own shape
+  placed.push_back({cell, rect, *m, 0, shapes.outlines[cell], {}});
   return true;
 }
 
 SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat& f2,
-                         const WoodIndex& wood, const Params& p, std::vector<Placed>& placed) {
+                         const WoodIndex& wood, const std::vector<cv::Mat>& available,
+                         const Params& p, std::vector<Placed>& placed) {
   if (shapes.refine != Refine::dp) return {};
   SeamInput in;
   in.cols = shapes.cols, in.rows = shapes.rows, in.pitch = shapes.patch, in.half = shapes.half;
@@ -207,26 +238,33 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat&
   const std::size_t n = static_cast<std::size_t>(shapes.cols) * shapes.rows;
   in.wood_f1.resize(n);
   in.wood_f2.resize(n);
+  in.available.resize(n);
   std::vector<int> placed_of(n, -1);
   for (std::size_t k = 0; k < placed.size(); ++k) {
     const auto [a, b] = wood.features(placed[k].match);
     in.wood_f1[placed[k].cell] = a;
     in.wood_f2[placed[k].cell] = b;
+    in.available[placed[k].cell] = available[k];
     placed_of[placed[k].cell] = static_cast<int>(k);
   }
   Seams seams = refine_seams(in, 2);
   const SeamCosts costs{seams.straight_cost, seams.refined_cost};
   const double knot = std::max(2.0, shapes.patch / 3.0);
   const int W = shapes.cols * shapes.patch, H = shapes.rows * shapes.patch;
-  // A cell whose cuts leave it unfabricable gets straight cuts around it (its square core
-  // grown to the grid lines, always fabricable); a few rounds settle the neighbours.
+  // A cell whose cuts leave it unfabricable, or whose smoothed outline strays off the wood
+  // available to it, gets straight cuts around it (its core, always fabricable and its own);
+  // a few rounds settle the neighbours.
   std::vector<Outline> outlines;
   for (int round = 0; round < 4; ++round) {
     outlines = cell_outlines(seam_lines(seams, shapes.cols, shapes.rows, shapes.patch, knot));
     bool changed = false;
     for (int r = 0; r < shapes.rows; ++r) {
       for (int c = 0; c < shapes.cols; ++c) {
-        if (!problem_of(outlines[r * shapes.cols + c], p.px_per_mm, p)) continue;
+        const int cell = r * shapes.cols + c;
+        if (!problem_of(outlines[cell], p.px_per_mm, p) &&
+            inside_available(outlines[cell], shapes.rects[cell], in.available[cell])) {
+          continue;
+        }
         // One row / column beyond the overlaps: seam_lines keeps a cut straight there too
         // (where the crossing cut may bend).
         const int y0 = std::max(0, r * shapes.patch - shapes.half - 1);

@@ -21,6 +21,7 @@ struct Placed {
   Match match;
   int level = 0;        // adaptive level
   Outline outline_px;   // the piece's outline in result px (inside rect)
+  cv::Rect core;        // refine = dp: the core matched and taken (result px, inside rect)
 };
 
 struct Shapes {
@@ -36,6 +37,9 @@ struct Shapes {
 
 Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const Params& p);
 
+// The core square of cell `cell` (result px).
+cv::Rect cell_core(const Shapes& shapes, int cell);
+
 // Matches cell `cell` (splitting it adaptively on the regular grid) and takes its wood;
 // false when no free wood fits.
 bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat& f2,
@@ -47,9 +51,11 @@ struct SeamCosts {
 };
 
 // refine = dp: the cuts in the overlaps (eq. 8-9), giving every placed cell its outline.
-// Otherwise the outlines are already set and this returns zeros.
+// `available[k]` (dp_wood.h) is the wood placed[k]'s cuts may use. Otherwise the outlines
+// are already set and this returns zeros.
 SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat& f2,
-                         const WoodIndex& wood, const Params& p, std::vector<Placed>& placed);
+                         const WoodIndex& wood, const std::vector<cv::Mat>& available,
+                         const Params& p, std::vector<Placed>& placed);
 
 // Throws Unfabricable naming the first piece that cannot be cut or assembled.
 void check_fabricable(const Plan& plan, const Shapes& shapes, const Params& p);

@@ -34,6 +34,14 @@ cv::Mat window_sums(const cv::Mat& I, int w, int h, int nx, int ny) {
   return out;
 }
 
+// m's pixels under r, 0 where r leaves m.
+cv::Mat crop_padded(const cv::Mat& m, const cv::Rect& r) {
+  cv::Mat out = cv::Mat::zeros(r.size(), m.type());
+  const cv::Rect in = r & cv::Rect(0, 0, m.cols, m.rows);
+  if (in.area() > 0) m(in).copyTo(out(in - r.tl()));
+  return out;
+}
+
 }  // namespace
 
 struct WoodIndex::Copy {
@@ -436,11 +444,11 @@ void WoodIndex::take(int sheet, const std::vector<cv::Point2d>& polygon) {
 
 std::pair<cv::Mat, cv::Mat> WoodIndex::features(const Match& m) const {
   const Copy& c = *copies_[m.copy];
-  return {c.f1(cv::Rect(m.pos, m.size)).clone(), c.f2(cv::Rect(m.pos, m.size)).clone()};
+  return {crop_padded(c.f1, cv::Rect(m.pos, m.size)), crop_padded(c.f2, cv::Rect(m.pos, m.size))};
 }
 
 cv::Mat WoodIndex::colour(const Match& m) const {
-  return copies_[m.copy]->bgr(cv::Rect(m.pos, m.size)).clone();
+  return crop_padded(copies_[m.copy]->bgr, cv::Rect(m.pos, m.size));
 }
 
 WoodIndex::Snapshot WoodIndex::save() const {

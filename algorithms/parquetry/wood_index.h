@@ -69,10 +69,11 @@ class WoodIndex {
   // Window pixels of `m` (its copy, origin at the window's top-left) -> sheet pixels.
   cv::Matx23d window_to_sheet(const Match& m) const;
 
-  // Weighted wood features (CV_32F f1, f2) under the window of `m`.
+  // Weighted wood features (CV_32F f1, f2) under the window of `m`; 0 where the window
+  // leaves its copy (a dp window grown around a matched core may).
   std::pair<cv::Mat, cv::Mat> features(const Match& m) const;
 
-  // Wood colour (CV_8UC3) under the window of `m`.
+  // Wood colour (CV_8UC3) under the window of `m`; black where it leaves its copy.
   cv::Mat colour(const Match& m) const;
 
 
