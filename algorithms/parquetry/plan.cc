@@ -93,7 +93,6 @@ void finish(Job& job, const WoodIndex& wood, const std::vector<Sheet>& sheets, d
   cv::Mat baseline = cv::Mat::zeros(plan.target.size(), CV_8UC3);
   cv::Mat flat_target = cv::Mat::zeros(plan.target.size(), CV_8UC3);
   const cv::Matx23d px_to_mm(1 / r, 0, 0, 0, 1 / r, 0), mm_to_px(r, 0, 0, 0, r, 0);
-  constexpr int kShift = 8;
   for (std::size_t i = 0; i < job.placed.size(); ++i) {
     const Placed& pl = job.placed[i];
     Piece piece;
@@ -111,16 +110,8 @@ void finish(Job& job, const WoodIndex& wood, const std::vector<Sheet>& sheets, d
     piece.level = pl.level;
 
     // The piece's pixels: centres inside its outline (within its window).
-    cv::Mat mask = cv::Mat::zeros(plan.target.size(), CV_8UC1);
-    std::vector<cv::Point> poly;
-    for (const cv::Point2d& q : flatten(pl.outline_px, 0.05)) {
-      poly.emplace_back(static_cast<int>(std::lround((q.x - 0.5) * (1 << kShift))),
-                        static_cast<int>(std::lround((q.y - 0.5) * (1 << kShift))));
-    }
-    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255), cv::LINE_8,
-                 kShift);
     cv::Mat inside = cv::Mat::zeros(plan.target.size(), CV_8UC1);
-    mask(pl.rect).copyTo(inside(pl.rect));
+    piece_mask(pl.outline_px, pl.rect).copyTo(inside(pl.rect));
     const cv::Mat colour = wood.colour(pl.match);
     colour.copyTo(plan.reconstruction(pl.rect), inside(pl.rect));
     if (cv::countNonZero(inside) > 0) {
@@ -231,7 +222,7 @@ std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
     const std::vector<cv::Mat> mine(available.begin() + std::min(first, available.size()),
                                     available.begin() + std::min(first + job.placed.size(), available.size()));
     first += job.placed.size();
-    const SeamCosts seams = final_outlines(job.shapes, job.f1, job.f2, wood, mine, p, job.placed);
+    const SeamCosts seams = final_outlines(job.shapes, job.plan.target, job.f1, job.f2, wood, mine, p, job.placed);
     job.plan.seam_cost_straight = seams.straight;
     job.plan.seam_cost_refined = seams.refined;
     finish(job, wood, sheets, r);

@@ -10,6 +10,8 @@
 #include "algorithms/parquetry/cut_refine.h"
 #include "algorithms/parquetry/fabricability.h"
 #include "algorithms/parquetry/grid_morph.h"
+#include "algorithms/parquetry/quality.h"
+#include "algorithms/parquetry/seam_choice.h"
 
 namespace atelier::parquetry {
 
@@ -128,22 +130,37 @@ std::vector<Outline> cuttable_outlines(GridLines lines, double pitch, const Para
 
 // Every pixel whose centre the outline (result px) covers lies in `rect` and is available.
 bool inside_available(const Outline& outline_px, const cv::Rect& rect, const cv::Mat& available) {
+  // One pixel of border catches the outline leaving the window.
+  const cv::Rect grown(rect.x - 1, rect.y - 1, rect.width + 2, rect.height + 2);
+  cv::Mat allowed = cv::Mat::zeros(grown.size(), CV_8UC1);
+  available.copyTo(allowed(cv::Rect(1, 1, rect.width, rect.height)));
+  return cv::countNonZero(piece_mask(outline_px, grown) & ~allowed) == 0;
+}
+
+// The result painted with every placed cell's wood under `outlines` (per placed).
+cv::Mat paint(const std::vector<Placed>& placed, const std::vector<Outline>& outlines,
+              const WoodIndex& wood, cv::Size size) {
+  cv::Mat out = cv::Mat::zeros(size, CV_8UC3);
+  for (std::size_t k = 0; k < placed.size(); ++k) {
+    const cv::Rect& rect = placed[k].rect;
+    wood.colour(placed[k].match).copyTo(out(rect), piece_mask(outlines[k], rect));
+  }
+  return out;
+}
+
+}  // namespace
+
+cv::Mat piece_mask(const Outline& outline_px, const cv::Rect& rect) {
   constexpr int kShift = 8;
   std::vector<cv::Point> poly;
   for (const cv::Point2d& q : flatten(outline_px, 0.05)) {
     poly.emplace_back(static_cast<int>(std::lround((q.x - rect.x - 0.5) * (1 << kShift))),
                       static_cast<int>(std::lround((q.y - rect.y - 0.5) * (1 << kShift))));
   }
-  // One pixel of border catches the outline leaving the window.
-  cv::Mat inside = cv::Mat::zeros(rect.height + 2, rect.width + 2, CV_8UC1);
-  for (cv::Point& q : poly) q += cv::Point(1 << kShift, 1 << kShift);
-  cv::fillPoly(inside, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255), cv::LINE_8, kShift);
-  cv::Mat allowed = cv::Mat::zeros(inside.size(), CV_8UC1);
-  available.copyTo(allowed(cv::Rect(1, 1, rect.width, rect.height)));
-  return cv::countNonZero(inside & ~allowed) == 0;
+  cv::Mat mask = cv::Mat::zeros(rect.size(), CV_8UC1);
+  cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255), cv::LINE_8, kShift);
+  return mask;
 }
-
-}  // namespace
 
 Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const Params& p) {
   Shapes s;
@@ -166,13 +183,7 @@ Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const P
       }
       const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
                                      cv::Point(static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1)))) & all;
-      cv::Mat mask = cv::Mat::zeros(rect.size(), CV_8UC1);
-      std::vector<cv::Point> pts;
-      for (const cv::Point2d& q : poly) {
-        pts.emplace_back(static_cast<int>(std::lround((q.x - rect.x - 0.5) * 256)),
-                         static_cast<int>(std::lround((q.y - rect.y - 0.5) * 256)));
-      }
-      cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255), cv::LINE_8, 8);
+      const cv::Mat mask = piece_mask(o, rect);
       s.rects.push_back(rect);
       s.masks.push_back(mask);
       s.wood_px += cv::countNonZero(mask);
@@ -227,9 +238,10 @@ bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat
   return true;
 }
 
-SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat& f2,
-                         const WoodIndex& wood, const std::vector<cv::Mat>& available,
-                         const Params& p, std::vector<Placed>& placed) {
+SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::Mat& f1,
+                         const cv::Mat& f2, const WoodIndex& wood,
+                         const std::vector<cv::Mat>& available, const Params& p,
+                         std::vector<Placed>& placed) {
   if (shapes.refine != Refine::dp) return {};
   SeamInput in;
   in.cols = shapes.cols, in.rows = shapes.rows, in.pitch = shapes.patch, in.half = shapes.half;
@@ -239,16 +251,21 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat&
   in.wood_f1.resize(n);
   in.wood_f2.resize(n);
   in.available.resize(n);
+  std::vector<cv::Mat> wood_bgr(n);
   std::vector<int> placed_of(n, -1);
   for (std::size_t k = 0; k < placed.size(); ++k) {
     const auto [a, b] = wood.features(placed[k].match);
     in.wood_f1[placed[k].cell] = a;
     in.wood_f2[placed[k].cell] = b;
     in.available[placed[k].cell] = available[k];
+    wood_bgr[placed[k].cell] = wood.colour(placed[k].match);
     placed_of[placed[k].cell] = static_cast<int>(k);
   }
   Seams seams = refine_seams(in, 2);
-  const SeamCosts costs{seams.straight_cost, seams.refined_cost};
+  SeamCosts costs{seams.straight_cost, seams.refined_cost};
+  const SeamChoice choice = choose_seams(seams, in, wood_bgr, target, p.px_per_mm);
+  costs.seams_kept = choice.kept;
+  costs.seams_straightened = choice.straightened;
   const double knot = std::max(2.0, shapes.patch / 3.0);
   const int W = shapes.cols * shapes.patch, H = shapes.rows * shapes.patch;
   // A cell whose cuts leave it unfabricable, or whose smoothed outline strays off the wood
@@ -283,8 +300,18 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat&
     }
     if (!changed) break;
   }
-  for (std::size_t cell = 0; cell < n; ++cell) {
-    if (placed_of[cell] >= 0) placed[placed_of[cell]].outline_px = outlines[cell];
+  // The smoothed curves are what is cut: if, after all, they read worse than the straight
+  // grid (the regular plan), cut straight.
+  std::vector<Outline> refined(placed.size()), straight(placed.size());
+  for (std::size_t k = 0; k < placed.size(); ++k) {
+    refined[k] = outlines[placed[k].cell];
+    straight[k] = shapes.outlines[placed[k].cell];
+  }
+  const double r = p.px_per_mm;
+  costs.kept_refined = blurred_ssim(paint(placed, refined, wood, target.size()), target, r) >=
+                       blurred_ssim(paint(placed, straight, wood, target.size()), target, r);
+  for (std::size_t k = 0; k < placed.size(); ++k) {
+    placed[k].outline_px = costs.kept_refined ? refined[k] : straight[k];
   }
   return costs;
 }

@@ -37,6 +37,10 @@ struct Shapes {
 
 Shapes make_shapes(const cv::Mat& target, int cols, int rows, int patch, const Params& p);
 
+// The pixels of `rect` (result px) whose centres `outline_px` covers: CV_8UC1 of its size,
+// 255 inside.
+cv::Mat piece_mask(const Outline& outline_px, const cv::Rect& rect);
+
 // The core square of cell `cell` (result px).
 cv::Rect cell_core(const Shapes& shapes, int cell);
 
@@ -47,15 +51,20 @@ bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat
                 std::vector<SplitDecision>& splits);
 
 struct SeamCosts {
-  double straight = 0, refined = 0;
+  double straight = 0, refined = 0;   // eq. 8 of the straight and the dp cuts
+  int seams_kept = 0, seams_straightened = 0;  // seam_choice.h
+  bool kept_refined = true;  // false: the curves read worse than the straight grid, cut straight
 };
 
-// refine = dp: the cuts in the overlaps (eq. 8-9), giving every placed cell its outline.
+// refine = dp: the cuts in the overlaps (eq. 8-9), each seam kept only where it raises the
+// blurred SSIM against `target` (CV_8UC3, seam_choice.h), the plan cut straight if the
+// smoothed curves read worse than that; gives every placed cell its outline.
 // `available[k]` (dp_wood.h) is the wood placed[k]'s cuts may use. Otherwise the outlines
 // are already set and this returns zeros.
-SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& f1, const cv::Mat& f2,
-                         const WoodIndex& wood, const std::vector<cv::Mat>& available,
-                         const Params& p, std::vector<Placed>& placed);
+SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::Mat& f1,
+                         const cv::Mat& f2, const WoodIndex& wood,
+                         const std::vector<cv::Mat>& available, const Params& p,
+                         std::vector<Placed>& placed);
 
 // Throws Unfabricable naming the first piece that cannot be cut or assembled.
 void check_fabricable(const Plan& plan, const Shapes& shapes, const Params& p);

@@ -28,6 +28,16 @@ cv::Mat window(const cv::Mat& m) {
 }  // namespace
 
 double blurred_ssim(const cv::Mat& result, const cv::Mat& target, double px_per_mm) {
+  return cv::mean(blurred_ssim_map(result, target, px_per_mm))[0];
+}
+
+int blurred_ssim_reach_px(double px_per_mm) {
+  // GaussianBlur's kernel for float images with ksize 0: cvRound(sigma * 8 + 1) | 1 wide.
+  const int blur = (cvRound(kQualityBlurMm * px_per_mm * 8 + 1) | 1) / 2;
+  return blur + 5;  // + the 11 x 11 window's radius
+}
+
+cv::Mat blurred_ssim_map(const cv::Mat& result, const cv::Mat& target, double px_per_mm) {
   if (result.empty() || target.empty()) throw std::invalid_argument("blurred_ssim: empty image");
   if (result.size() != target.size()) {
     throw std::invalid_argument("blurred_ssim: the images differ in size");
@@ -48,7 +58,7 @@ double blurred_ssim(const cv::Mat& result, const cv::Mat& target, double px_per_
   cv::Mat den = (mu_aa + mu_bb + C1).mul(s_aa + s_bb + C2);
   cv::Mat ssim;
   cv::divide(num, den, ssim);
-  return cv::mean(ssim)[0];
+  return ssim;
 }
 
 }  // namespace atelier::parquetry

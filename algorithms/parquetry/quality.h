@@ -19,4 +19,10 @@ inline constexpr double kQualityBlurMm = 2.0;
 // std::invalid_argument for empty images, other types or different sizes.
 double blurred_ssim(const cv::Mat& result, const cv::Mat& target, double px_per_mm);
 
+// The per-pixel SSIM whose mean blurred_ssim() is (CV_32F of the images' size).
+cv::Mat blurred_ssim_map(const cv::Mat& result, const cv::Mat& target, double px_per_mm);
+
+// How far (px) a change of one pixel moves the map: the blur's radius plus the SSIM window's.
+int blurred_ssim_reach_px(double px_per_mm);
+
 }  // namespace atelier::parquetry
