@@ -242,25 +242,72 @@ cv::Mat seam_labels(const Seams& seams, int cols, int rows, int W, int H) {
 
 namespace {
 
+// The cut smoothed as a whole line (as WoodPixel fits one least-squares curve per grid line,
+// with a slope penalty): s minimises
+//   sum_k w_k (s_k - cut_k)^2 + curvature * sum (s_{k-1} - 2 s_k + s_{k+1})^2
+//                             + slope * sum (s_{k+1} - s_k)^2,
+// w = 1, and 1e6 on fixed steps (which so keep their value). A pentadiagonal SPD system,
+// solved by banded Cholesky (LDL^T) in O(n).
+std::vector<double> smooth_line(const std::vector<int>& cut, const std::vector<char>& fixed,
+                                double curvature, double slope) {
+  const int n = static_cast<int>(cut.size());
+  // A as three diagonals: d (main), e (first off), f (second off).
+  std::vector<double> d(n), e(n, 0.0), f(n, 0.0), b(n);
+  for (int k = 0; k < n; ++k) {
+    const double w = fixed[static_cast<std::size_t>(k)] ? 1e6 : 1.0;
+    d[k] = w;
+    b[k] = w * cut[static_cast<std::size_t>(k)];
+  }
+  for (int k = 0; k + 1 < n; ++k) {  // slope terms (s_{k+1} - s_k)^2
+    d[k] += slope, d[k + 1] += slope, e[k] -= slope;
+  }
+  for (int k = 1; k + 1 < n; ++k) {  // curvature terms, coefficients (1, -2, 1) at k-1, k, k+1
+    const int i[3] = {k - 1, k, k + 1};
+    const double c[3] = {1, -2, 1};
+    for (int a = 0; a < 3; ++a) {
+      d[i[a]] += curvature * c[a] * c[a];
+      for (int q = a + 1; q < 3; ++q) {
+        (q - a == 1 ? e : f)[i[a]] += curvature * c[a] * c[q];
+      }
+    }
+  }
+  // LDL^T with L unit lower banded (l1 below the diagonal, l2 two below).
+  std::vector<double> D(n), l1(n, 0.0), l2(n, 0.0);
+  for (int k = 0; k < n; ++k) {
+    double dk = d[k];
+    if (k >= 1) dk -= l1[k - 1] * l1[k - 1] * D[k - 1];
+    if (k >= 2) dk -= l2[k - 2] * l2[k - 2] * D[k - 2];
+    D[k] = dk;
+    if (k + 1 < n) {
+      double v = e[k];
+      if (k >= 1) v -= l2[k - 1] * l1[k - 1] * D[k - 1];
+      l1[k] = v / dk;
+    }
+    if (k + 2 < n) l2[k] = f[k] / dk;
+  }
+  std::vector<double> y(b);
+  for (int k = 0; k < n; ++k) {
+    if (k >= 1) y[k] -= l1[k - 1] * y[k - 1];
+    if (k >= 2) y[k] -= l2[k - 2] * y[k - 2];
+  }
+  for (int k = 0; k < n; ++k) y[k] /= D[k];
+  for (int k = n - 1; k >= 0; --k) {
+    if (k + 1 < n) y[k] -= l1[k] * y[k + 1];
+    if (k + 2 < n) y[k] -= l2[k] * y[k + 2];
+  }
+  return y;
+}
+
 // One interior cut as a polyline: the boundary value at step k sits at k + 0.5 along the cut,
-// the ends at 0 and `length`. `fixed[k]` steps keep their raw value (and no knot inside a
-// fixed run), others take the moving average over +-radius steps. `point(along, across)`
-// builds the point.
+// the ends at 0 and `length`. The whole line smoothed (smooth_line); `fixed[k]` steps keep
+// their raw value (and no knot inside a fixed run). `point(along, across)` builds the point.
 template <typename MakePoint>
 std::vector<cv::Point2d> cut_polyline(const std::vector<int>& cut, const std::vector<char>& fixed,
-                                      double knot_px, MakePoint point) {
+                                      double knot_px, double curvature, double slope, MakePoint point) {
   const int n = static_cast<int>(cut.size());
-  const int radius = std::max(1, static_cast<int>(std::floor(knot_px / 2)));
-  std::vector<double> s(static_cast<std::size_t>(n));
+  std::vector<double> s = smooth_line(cut, fixed, curvature, slope);
   for (int k = 0; k < n; ++k) {
-    if (fixed[static_cast<std::size_t>(k)]) {
-      s[static_cast<std::size_t>(k)] = cut[static_cast<std::size_t>(k)];
-      continue;
-    }
-    double sum = 0;
-    int count = 0;
-    for (int q = std::max(0, k - radius); q <= std::min(n - 1, k + radius); ++q, ++count) sum += cut[static_cast<std::size_t>(q)];
-    s[static_cast<std::size_t>(k)] = sum / count;
+    if (fixed[static_cast<std::size_t>(k)]) s[static_cast<std::size_t>(k)] = cut[static_cast<std::size_t>(k)];
   }
   // Each Bezier segment lies in the hull of its control points, which Catmull-Rom puts up to
   // a sixth of the neighbours' spread beyond the knots: knots kept an eighth of the cut's
@@ -330,13 +377,16 @@ GridLines seam_lines(const Seams& seams, int cols, int rows, int pitch, double k
       }
     }
   }
+  // Deviations shorter than about a pitch are smoothed away (the smoother's half-power
+  // wavelength is 2 pi curvature^(1/4)); the slope term keeps the rest gentle.
+  const double curvature = std::pow(pitch / (2 * CV_PI), 4), slope = std::pow(pitch / (2 * CV_PI), 2);
   GridLines g;
   g.cols = cols;
   g.rows = rows;
   g.vertical.push_back({{0.0, 0.0}, {0.0, static_cast<double>(H)}});
   for (int i = 1; i < cols; ++i) {
     const auto& cut = seams.vertical[static_cast<std::size_t>(i)];
-    g.vertical.push_back(cut_polyline(cut, v_fixed, knot_px, [](double along, double across) {
+    g.vertical.push_back(cut_polyline(cut, v_fixed, knot_px, curvature, slope, [](double along, double across) {
       return cv::Point2d(across, along);
     }));
   }
@@ -344,7 +394,7 @@ GridLines seam_lines(const Seams& seams, int cols, int rows, int pitch, double k
   g.horizontal.push_back({{0.0, 0.0}, {static_cast<double>(W), 0.0}});
   for (int j = 1; j < rows; ++j) {
     const auto& cut = seams.horizontal[static_cast<std::size_t>(j)];
-    g.horizontal.push_back(cut_polyline(cut, h_fixed, knot_px, [](double along, double across) {
+    g.horizontal.push_back(cut_polyline(cut, h_fixed, knot_px, curvature, slope, [](double along, double across) {
       return cv::Point2d(along, across);
     }));
   }

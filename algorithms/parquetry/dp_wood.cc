@@ -45,14 +45,18 @@ std::vector<cv::Mat> available_wood(const std::vector<const Placed*>& placed,
                                     const std::vector<Sheet>& sheets, const Stock& stock,
                                     const WoodIndex& wood, double px_per_mm, double kerf_mm) {
   const double kerf_px = std::max(0.0, kerf_mm) * px_per_mm;
-  const double clear_of_cores = kerf_px + 1.7;  // the take's growth (kerf + 0.71) + a pixel
-  const double gap = kerf_px + 1.0;
+  // An outline may cover up to half a pixel beyond the centres it covers, and a pixel centre
+  // maps onto the sheet within a pixel of its wood: rules keep 2 px to spare.
+  const double clear_of_cores = kerf_px + 2.2;
+  const double gap = kerf_px + 2.0;
   // Per sheet: free wood, and every core of the plan labelled by its index + 1.
   std::vector<cv::Mat> free_wood(sheets.size()), cores(sheets.size());
   for (std::size_t s = 0; s < sheets.size(); ++s) {
     free_wood[s] = usable_mask(sheets[s], px_per_mm);
     const auto it = stock.used.find(sheets[s].id);
     if (it != stock.used.end()) free_wood[s] &= ~used_mask(sheets[s], it->second, px_per_mm, kerf_mm);
+    // A pixel away from the veneer's edge and from used wood (off the sheet is not free).
+    cv::erode(free_wood[s], free_wood[s], cv::Mat(), {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     cores[s] = cv::Mat::zeros(free_wood[s].size(), CV_32S);
   }
   for (std::size_t k = 0; k < placed.size(); ++k) {

@@ -5,12 +5,14 @@
 // in) is the wood around that core on its sheet, which other pieces may need too: a window
 // pixel is available to its cell when the wood under its centre is
 //   - in the cell's own core, or
-//   - usable veneer not used by the stock (kerf included), at least kerf + 1.7 px from every
-//     other core on the sheet, and nearer to this core than to any other by kerf + 1 px.
+//   - usable veneer not used by the stock (kerf included) a pixel in from its edges, at least
+//     kerf + 2.2 px from every other core on the sheet, and nearer to this core than to any
+//     other by kerf + 2 px.
 // The last rule splits contested wood between neighbours on a sheet with a gap: since the
 // difference of two distance functions changes by at most 2 per px, two pixels given to two
-// different cells are at least kerf + 1 px apart, so pieces never come within the kerf of
-// each other whatever their cuts do inside the available pixels (the pixel covers the rest).
+// different cells are at least kerf + 2 px apart, so pieces never come within the kerf of
+// each other whatever their cuts do inside the available pixels (an outline covers at most
+// half a pixel beyond the pixel centres it covers; the rest is the pixel's own slack).
 //
 // Units: working px (result and sheets at the plan's px_per_mm). Pure; not thread-safe only
 // in that it reads the WoodIndex (const).

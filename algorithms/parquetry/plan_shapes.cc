@@ -128,13 +128,34 @@ std::vector<Outline> cuttable_outlines(GridLines lines, double pitch, const Para
   return outlines;
 }
 
-// Every pixel whose centre the outline (result px) covers lies in `rect` and is available.
+// The outline (result px) lies within the available pixels of `rect` (their closed squares):
+// every pixel whose centre it covers is available, and so is a pixel under every point of
+// its boundary (a curve bulging a fraction of a pixel past an edge of the wood fails).
 bool inside_available(const Outline& outline_px, const cv::Rect& rect, const cv::Mat& available) {
   // One pixel of border catches the outline leaving the window.
   const cv::Rect grown(rect.x - 1, rect.y - 1, rect.width + 2, rect.height + 2);
   cv::Mat allowed = cv::Mat::zeros(grown.size(), CV_8UC1);
   available.copyTo(allowed(cv::Rect(1, 1, rect.width, rect.height)));
-  return cv::countNonZero(piece_mask(outline_px, grown) & ~allowed) == 0;
+  if (cv::countNonZero(piece_mask(outline_px, grown) & ~allowed) > 0) return false;
+  auto ok = [&](cv::Point2d q) {  // some pixel whose closed square holds q is available
+    constexpr double eps = 1e-6;
+    for (double dx : {-eps, eps}) {
+      for (double dy : {-eps, eps}) {
+        const int x = static_cast<int>(std::floor(q.x + dx)) - grown.x, y = static_cast<int>(std::floor(q.y + dy)) - grown.y;
+        if (x >= 0 && y >= 0 && x < allowed.cols && y < allowed.rows && allowed.at<uchar>(y, x)) return true;
+      }
+    }
+    return false;
+  };
+  const std::vector<cv::Point2d> poly = flatten(outline_px, 0.02);
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const cv::Point2d a = poly[k], b = poly[(k + 1) % poly.size()];
+    const int steps = std::max(1, static_cast<int>(std::ceil(cv::norm(b - a) / 0.05)));
+    for (int t = 0; t < steps; ++t) {
+      if (!ok(a + (b - a) * (static_cast<double>(t) / steps))) return false;
+    }
+  }
+  return true;
 }
 
 // The result painted with every placed cell's wood under `outlines` (per placed).
@@ -153,12 +174,22 @@ cv::Mat paint(const std::vector<Placed>& placed, const std::vector<Outline>& out
 cv::Mat piece_mask(const Outline& outline_px, const cv::Rect& rect) {
   constexpr int kShift = 8;
   std::vector<cv::Point> poly;
+  std::vector<cv::Point2f> local;
   for (const cv::Point2d& q : flatten(outline_px, 0.05)) {
     poly.emplace_back(static_cast<int>(std::lround((q.x - rect.x - 0.5) * (1 << kShift))),
                       static_cast<int>(std::lround((q.y - rect.y - 0.5) * (1 << kShift))));
+    local.emplace_back(static_cast<float>(q.x - rect.x), static_cast<float>(q.y - rect.y));
   }
   cv::Mat mask = cv::Mat::zeros(rect.size(), CV_8UC1);
   cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255), cv::LINE_8, kShift);
+  // fillPoly also takes the pixels a boundary touches (both neighbours of a seam get them);
+  // keep those whose centre is inside, so neighbouring pieces share no pixel.
+  for (int y = 0; y < mask.rows; ++y) {
+    uchar* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (m[x] && cv::pointPolygonTest(local, cv::Point2f(x + 0.5f, y + 0.5f), false) <= 0) m[x] = 0;
+    }
+  }
   return mask;
 }
 
@@ -272,9 +303,10 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::
   // available to it, gets straight cuts around it (its core, always fabricable and its own);
   // a few rounds settle the neighbours.
   std::vector<Outline> outlines;
-  for (int round = 0; round < 4; ++round) {
+  bool cuttable = false;
+  for (int round = 0; round <= kStraightenRounds && !cuttable; ++round) {
     outlines = cell_outlines(seam_lines(seams, shapes.cols, shapes.rows, shapes.patch, knot));
-    bool changed = false;
+    cuttable = true;
     for (int r = 0; r < shapes.rows; ++r) {
       for (int c = 0; c < shapes.cols; ++c) {
         const int cell = r * shapes.cols + c;
@@ -282,33 +314,37 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::
             inside_available(outlines[cell], shapes.rects[cell], in.available[cell])) {
           continue;
         }
-        // One row / column beyond the overlaps: seam_lines keeps a cut straight there too
-        // (where the crossing cut may bend).
-        const int y0 = std::max(0, r * shapes.patch - shapes.half - 1);
-        const int y1 = std::min(H, (r + 1) * shapes.patch + shapes.half + 1);
-        const int x0 = std::max(0, c * shapes.patch - shapes.half - 1);
-        const int x1 = std::min(W, (c + 1) * shapes.patch + shapes.half + 1);
+        cuttable = false;
+        // One row / column beyond the overlaps (seam_lines keeps a cut straight there too,
+        // where the crossing cut may bend), and further each round: the smoothing carries a
+        // neighbouring bend into the straightened part.
+        // Whole held runs only (refine_seams holds vertical cuts over each horizontal band
+        // and the row either side), so no cut bends inside one.
+        const int reach = shapes.half + 1 + round * shapes.patch;
+        const int y0 = std::max(0, r * shapes.patch - reach);
+        const int y1 = std::min(H, (r + 1) * shapes.patch + reach);
+        const int x0 = std::max(0, c * shapes.patch - reach);
+        const int x1 = std::min(W, (c + 1) * shapes.patch + reach);
         for (int i : {c, c + 1}) {
           if (i == 0 || i == shapes.cols) continue;
-          for (int y = y0; y < y1; ++y) changed |= std::exchange(seams.vertical[i][y], i * shapes.patch) != i * shapes.patch;
+          for (int y = y0; y < y1; ++y) seams.vertical[i][y] = i * shapes.patch;
         }
         for (int j : {r, r + 1}) {
           if (j == 0 || j == shapes.rows) continue;
-          for (int x = x0; x < x1; ++x) changed |= std::exchange(seams.horizontal[j][x], j * shapes.patch) != j * shapes.patch;
+          for (int x = x0; x < x1; ++x) seams.horizontal[j][x] = j * shapes.patch;
         }
       }
     }
-    if (!changed) break;
   }
   // The smoothed curves are what is cut: if, after all, they read worse than the straight
-  // grid (the regular plan), cut straight.
+  // grid (the regular plan), or some cell still could not be cut, cut straight.
   std::vector<Outline> refined(placed.size()), straight(placed.size());
   for (std::size_t k = 0; k < placed.size(); ++k) {
     refined[k] = outlines[placed[k].cell];
     straight[k] = shapes.outlines[placed[k].cell];
   }
   const double r = p.px_per_mm;
-  costs.kept_refined = blurred_ssim(paint(placed, refined, wood, target.size()), target, r) >=
+  costs.kept_refined = cuttable && blurred_ssim(paint(placed, refined, wood, target.size()), target, r) >=
                        blurred_ssim(paint(placed, straight, wood, target.size()), target, r);
   for (std::size_t k = 0; k < placed.size(); ++k) {
     placed[k].outline_px = costs.kept_refined ? refined[k] : straight[k];
