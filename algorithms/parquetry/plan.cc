@@ -225,6 +225,9 @@ std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
     const SeamCosts seams = final_outlines(job.shapes, job.plan.target, job.f1, job.f2, wood, mine, p, job.placed);
     job.plan.seam_cost_straight = seams.straight;
     job.plan.seam_cost_refined = seams.refined;
+    job.plan.seams_refined = seams.seams_kept;
+    job.plan.seams_straightened = seams.seams_straightened;
+    job.plan.curves_cut = p.refine == Refine::dp && seams.kept_refined;
     finish(job, wood, sheets, r);
     check_fabricable(job.plan, job.shapes, p);
     plans.push_back(std::move(job.plan));

@@ -67,6 +67,11 @@ struct Plan {
   // Eq. 8 (summed squared feature differences) of the straight grid cuts and of the refined
   // cuts, refine = dp only (0 otherwise).
   double seam_cost_straight = 0, seam_cost_refined = 0;
+  // refine = dp: seams (cuts between two crossings) left refined and put back straight because
+  // they read worse (seam_choice.h), and whether the curves were cut at all (false: they read
+  // worse than the straight grid, or could not be cut, so the plan is the regular one).
+  int seams_refined = 0, seams_straightened = 0;
+  bool curves_cut = false;
 };
 
 // Thrown when the wood left cannot hold the plan; says how much area was needed and free.

@@ -32,12 +32,15 @@ std::vector<Segment> segments(bool vertical, int line, const std::vector<char>& 
   return out;
 }
 
-// The cut's steps of `seg` as a straight run between its positions just outside it (the one
-// it has where it meets the border, if it does).
-std::vector<int> straight_run(const std::vector<int>& cut, const Segment& seg) {
+// The cut's steps of `seg` as a straight run between its positions just outside it: level
+// with the one crossing where it meets a border, on the grid line `grid` where it runs from
+// border to border.
+std::vector<int> straight_run(const std::vector<int>& cut, const Segment& seg, int grid) {
   const int n = static_cast<int>(cut.size());
-  const double a = seg.begin > 0 ? cut[static_cast<std::size_t>(seg.begin - 1)] : cut[static_cast<std::size_t>(std::min(seg.end, n - 1))];
-  const double b = seg.end < n ? cut[static_cast<std::size_t>(seg.end)] : a;
+  const bool from_border = seg.begin == 0, to_border = seg.end == n;
+  const double a = !from_border ? cut[static_cast<std::size_t>(seg.begin - 1)]
+                   : !to_border ? cut[static_cast<std::size_t>(seg.end)] : grid;
+  const double b = !to_border ? cut[static_cast<std::size_t>(seg.end)] : a;
   const double len = seg.end - seg.begin + 1;
   std::vector<int> run;
   for (int k = seg.begin; k < seg.end; ++k) {
@@ -126,7 +129,7 @@ SeamChoice choose_seams(Seams& seams, const SeamInput& in, const std::vector<cv:
   for (const Segment& seg : all) {
     std::vector<int>& cut = seg.vertical ? seams.vertical[static_cast<std::size_t>(seg.line)]
                                          : seams.horizontal[static_cast<std::size_t>(seg.line)];
-    const std::vector<int> straight = straight_run(cut, seg);
+    const std::vector<int> straight = straight_run(cut, seg, seg.line * in.pitch);
     const std::vector<int> refined(cut.begin() + seg.begin, cut.begin() + seg.end);
     if (straight == refined) continue;
     // The pixels that may change: the band of the cut along the segment.

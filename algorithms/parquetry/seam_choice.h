@@ -5,7 +5,8 @@
 // A seam is the part of a cut between two crossings: the rows of vertical cut i outside every
 // horizontal band (and columns of horizontal cut j outside every vertical band), each run
 // between two bands (or a band and the border). Straightened, it runs linearly between the cut's
-// positions just outside it; the crossings themselves keep their refined positions.
+// positions just outside it (level with the crossing where it meets the border, on its grid
+// line if it meets none); the crossings themselves keep their refined positions.
 //
 // Units: working px of the result. Pure, deterministic, not thread-safe on `seams`.
 #pragma once

@@ -305,6 +305,9 @@ json write_target(const Target& t, const parquetry::Plan& plan,
   if (plan.refine == parquetry::Refine::dp) {
     r["seam_cost_straight"] = plan.seam_cost_straight;
     r["seam_cost_refined"] = plan.seam_cost_refined;
+    r["seams_refined"] = plan.seams_refined;
+    r["seams_straightened"] = plan.seams_straightened;
+    r["curves_cut"] = plan.curves_cut;
   }
   r["splits"] = split_count;
   r["split_decisions"] = splits;

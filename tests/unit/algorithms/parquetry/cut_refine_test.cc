@@ -3,6 +3,7 @@
 // connected curve inside the overlap, and its outlines tile the result.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <opencv2/imgproc.hpp>
@@ -300,6 +301,44 @@ TEST(ParquetryCutRefine, SeamLinesGiveOutlinesThatTileAndStayInTheBands) {
       }
     }
   }
+}
+
+// A cut that jitters a pixel every other row around one long bump (what the DP leaves where
+// the wood barely matters) is laid as one smooth bulge: the curve turns back at most twice
+// (into the bump and out), never in small S-wiggles, and it still follows the bump.
+TEST(ParquetryCutRefine, SeamLinesSmoothJitterIntoOneGentleCurve) {
+  const int cols = 2, rows = 1, pitch = 40, H = rows * pitch;
+  Seams s;
+  s.vertical = {std::vector<int>(H, 0), std::vector<int>(H, pitch), std::vector<int>(H, 2 * pitch)};
+  s.horizontal = {std::vector<int>(2 * pitch, 0), std::vector<int>(2 * pitch, H)};
+  std::mt19937 rng(7);
+  std::bernoulli_distribution jitter(0.5);
+  for (int y = 0; y < H; ++y) {
+    const int bump = (y >= 12 && y < 28) ? 4 : 0;
+    s.vertical[1][y] = pitch + bump + (jitter(rng) ? 1 : 0);
+  }
+  const GridLines g = seam_lines(s, cols, rows, pitch, 6.0);  // knots every 6 px
+  const std::vector<Outline> cells = cell_outlines(g);
+  // The right edge of cell 0 is the cut: its x along y, flattened finely.
+  std::vector<cv::Point2d> poly = flatten(cells[0], 0.01);
+  std::vector<cv::Point2d> cut;
+  for (const cv::Point2d& q : poly) {
+    if (q.x > pitch / 2.0) cut.push_back(q);
+  }
+  std::sort(cut.begin(), cut.end(), [](const cv::Point2d& a, const cv::Point2d& b) { return a.y < b.y; });
+  int turns = 0, last = 0;
+  double most = 0;
+  for (std::size_t k = 1; k < cut.size(); ++k) {
+    const double dx = cut[k].x - cut[k - 1].x;
+    if (std::abs(dx) < 1e-6) continue;
+    const int dir = dx > 0 ? 1 : -1;
+    if (last != 0 && dir != last) ++turns;
+    last = dir;
+    most = std::max(most, cut[k].x - pitch);
+  }
+  EXPECT_LE(turns, 2);
+  EXPECT_GT(most, 2.0);  // the bump is kept (smoothed, not flattened away)
+  EXPECT_LT(most, 5.0 + 1e-9);  // inside the cut's own range
 }
 
 TEST(ParquetryCutRefine, SeamLinesRejectAVerticalCutBendingAcrossAHorizontalOne) {

@@ -347,10 +347,15 @@ double gap(const std::vector<cv::Point2d>& a, const std::vector<cv::Point2d>& b)
   return best;
 }
 
-TEST(ParquetryPlan, PiecesOnASheetKeepTheKerfBetweenThem) {
+// Regular squares, and dp pieces whose cuts reach into the wood around their cores.
+class ParquetryKerf : public ::testing::TestWithParam<Refine> {};
+
+TEST_P(ParquetryKerf, PiecesOnASheetKeepTheKerfBetweenThem) {
   const auto sheets = real_wood(false);
   Params p = small_params();
   p.kerf_mm = 1.5;
+  p.refine = GetParam();
+  if (p.refine == Refine::dp) p.px_per_mm = 1.0, p.size_mm = 56;  // room for the cuts to move
   const Plan plan = make_plan(photo("fruits.jpg"), sheets, Stock{}, p);
   int pairs = 0;
   for (const Piece& a : plan.pieces) {
@@ -370,6 +375,33 @@ TEST(ParquetryPlan, PiecesOnASheetKeepTheKerfBetweenThem) {
     }
   }
 }
+INSTANTIATE_TEST_SUITE_P(RegularAndDp, ParquetryKerf, ::testing::Values(Refine::none, Refine::dp));
+
+// refine = dp matches and takes each core as the regular grid does, so it is the regular plan
+// with some seams moved: the same wood under every piece, and it never reads worse.
+class ParquetryDp : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ParquetryDp, IsTheRegularPlanWithBetterSeamsOnly) {
+  const auto sheets = real_wood(false);
+  Params p = small_params();
+  p.px_per_mm = 1.0;  // 14 px patches, cuts move up to 2 px
+  p.size_mm = 56;
+  const Plan regular = make_plan(photo(GetParam()), sheets, Stock{}, p);
+  p.refine = Refine::dp;
+  const Plan dp = make_plan(photo(GetParam()), sheets, Stock{}, p);
+  ASSERT_EQ(dp.pieces.size(), regular.pieces.size());
+  for (std::size_t k = 0; k < dp.pieces.size(); ++k) {
+    EXPECT_EQ(dp.pieces[k].sheet_id, regular.pieces[k].sheet_id) << "piece " << k + 1;
+    EXPECT_EQ(dp.pieces[k].rotation_deg, regular.pieces[k].rotation_deg) << "piece " << k + 1;
+    EXPECT_DOUBLE_EQ(dp.pieces[k].cost, regular.pieces[k].cost) << "piece " << k + 1;
+  }
+  EXPECT_GE(dp.ssim, regular.ssim - 1e-12);
+  EXPECT_GT(dp.seams_refined + dp.seams_straightened, 0);  // the DP did move cuts
+  if (!dp.curves_cut) {
+    EXPECT_EQ(cv::norm(dp.reconstruction, regular.reconstruction, cv::NORM_INF), 0.0);
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Photos, ParquetryDp, ::testing::Values("fruits.jpg", "butterfly.jpg", "HappyFish.jpg"));
 
 // Morphed grids and dp cuts: curved pieces that tile the result, each cuttable, none sharing
 // wood, and the wood shown is the wood cut.
