@@ -84,7 +84,7 @@ BENCHMARK(BM_ParquetryPlan)
     ->Args({14, 9, 12, 15, 0})   // a quarter of the patches
     ->Args({14, 9, 6, 15, 0})    // and half the wood
     ->Args({28, 17, 12, 15, 1})  // the target on a morphed grid
-    ->Args({20, 12, 12, 15, 2})  // dp cuts: windows 1.7x the patch area, so fewer patches fit
+    ->Args({28, 17, 12, 15, 2})  // dp cuts: the regular grid's cores, then the seams
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);
