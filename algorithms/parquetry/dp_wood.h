@@ -14,8 +14,8 @@
 // each other whatever their cuts do inside the available pixels (an outline covers at most
 // half a pixel beyond the pixel centres it covers; the rest is the pixel's own slack).
 //
-// Units: working px (result and sheets at the plan's px_per_mm). Pure; not thread-safe only
-// in that it reads the WoodIndex (const).
+// Units: working px (result and sheets at the plan's px_per_mm). Pure: reads the WoodIndex
+// (const) and the sheets, changes nothing.
 #pragma once
 
 #include <vector>

@@ -169,6 +169,50 @@ cv::Mat paint(const std::vector<Placed>& placed, const std::vector<Outline>& out
   return out;
 }
 
+// The outlines of the dp cells under `seams`, every cell that comes out unfabricable, or
+// whose smoothed outline strays off the wood available to it, given straight cuts around it
+// (its core: always fabricable and its own), for a few rounds that settle the neighbours.
+// False if some cell still fails.
+bool cuttable_seam_outlines(Seams& seams, const Shapes& shapes, const std::vector<cv::Mat>& available,
+                            const Params& p, std::vector<Outline>& outlines) {
+  const double knot = std::max(2.0, shapes.patch / 3.0);
+  const int W = shapes.cols * shapes.patch, H = shapes.rows * shapes.patch;
+  bool cuttable = false;
+  for (int round = 0; round <= kStraightenRounds && !cuttable; ++round) {
+    outlines = cell_outlines(seam_lines(seams, shapes.cols, shapes.rows, shapes.patch, knot));
+    cuttable = true;
+    for (int r = 0; r < shapes.rows; ++r) {
+      for (int c = 0; c < shapes.cols; ++c) {
+        const int cell = r * shapes.cols + c;
+        if (!problem_of(outlines[cell], p.px_per_mm, p) &&
+            inside_available(outlines[cell], shapes.rects[cell], available[cell])) {
+          continue;
+        }
+        cuttable = false;
+        // One row / column beyond the overlaps (seam_lines keeps a cut straight there too,
+        // where the crossing cut may bend), and further each round: the smoothing carries a
+        // neighbouring bend into the straightened part.
+        // Whole held runs only (refine_seams holds vertical cuts over each horizontal band
+        // and the row either side), so no cut bends inside one.
+        const int reach = shapes.half + 1 + round * shapes.patch;
+        const int y0 = std::max(0, r * shapes.patch - reach);
+        const int y1 = std::min(H, (r + 1) * shapes.patch + reach);
+        const int x0 = std::max(0, c * shapes.patch - reach);
+        const int x1 = std::min(W, (c + 1) * shapes.patch + reach);
+        for (int i : {c, c + 1}) {
+          if (i == 0 || i == shapes.cols) continue;
+          for (int y = y0; y < y1; ++y) seams.vertical[i][y] = i * shapes.patch;
+        }
+        for (int j : {r, r + 1}) {
+          if (j == 0 || j == shapes.rows) continue;
+          for (int x = x0; x < x1; ++x) seams.horizontal[j][x] = j * shapes.patch;
+        }
+      }
+    }
+  }
+  return cuttable;
+}
+
 }  // namespace
 
 cv::Mat piece_mask(const Outline& outline_px, const cv::Rect& rect) {
@@ -283,59 +327,20 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::
   in.wood_f2.resize(n);
   in.available.resize(n);
   std::vector<cv::Mat> wood_bgr(n);
-  std::vector<int> placed_of(n, -1);
   for (std::size_t k = 0; k < placed.size(); ++k) {
     const auto [a, b] = wood.features(placed[k].match);
     in.wood_f1[placed[k].cell] = a;
     in.wood_f2[placed[k].cell] = b;
     in.available[placed[k].cell] = available[k];
     wood_bgr[placed[k].cell] = wood.colour(placed[k].match);
-    placed_of[placed[k].cell] = static_cast<int>(k);
   }
   Seams seams = refine_seams(in, 2);
   SeamCosts costs{seams.straight_cost, seams.refined_cost};
   const SeamChoice choice = choose_seams(seams, in, wood_bgr, target, p.px_per_mm);
   costs.seams_kept = choice.kept;
   costs.seams_straightened = choice.straightened;
-  const double knot = std::max(2.0, shapes.patch / 3.0);
-  const int W = shapes.cols * shapes.patch, H = shapes.rows * shapes.patch;
-  // A cell whose cuts leave it unfabricable, or whose smoothed outline strays off the wood
-  // available to it, gets straight cuts around it (its core, always fabricable and its own);
-  // a few rounds settle the neighbours.
   std::vector<Outline> outlines;
-  bool cuttable = false;
-  for (int round = 0; round <= kStraightenRounds && !cuttable; ++round) {
-    outlines = cell_outlines(seam_lines(seams, shapes.cols, shapes.rows, shapes.patch, knot));
-    cuttable = true;
-    for (int r = 0; r < shapes.rows; ++r) {
-      for (int c = 0; c < shapes.cols; ++c) {
-        const int cell = r * shapes.cols + c;
-        if (!problem_of(outlines[cell], p.px_per_mm, p) &&
-            inside_available(outlines[cell], shapes.rects[cell], in.available[cell])) {
-          continue;
-        }
-        cuttable = false;
-        // One row / column beyond the overlaps (seam_lines keeps a cut straight there too,
-        // where the crossing cut may bend), and further each round: the smoothing carries a
-        // neighbouring bend into the straightened part.
-        // Whole held runs only (refine_seams holds vertical cuts over each horizontal band
-        // and the row either side), so no cut bends inside one.
-        const int reach = shapes.half + 1 + round * shapes.patch;
-        const int y0 = std::max(0, r * shapes.patch - reach);
-        const int y1 = std::min(H, (r + 1) * shapes.patch + reach);
-        const int x0 = std::max(0, c * shapes.patch - reach);
-        const int x1 = std::min(W, (c + 1) * shapes.patch + reach);
-        for (int i : {c, c + 1}) {
-          if (i == 0 || i == shapes.cols) continue;
-          for (int y = y0; y < y1; ++y) seams.vertical[i][y] = i * shapes.patch;
-        }
-        for (int j : {r, r + 1}) {
-          if (j == 0 || j == shapes.rows) continue;
-          for (int x = x0; x < x1; ++x) seams.horizontal[j][x] = j * shapes.patch;
-        }
-      }
-    }
-  }
+  const bool cuttable = cuttable_seam_outlines(seams, shapes, in.available, p, outlines);
   // The smoothed curves are what is cut: if, after all, they read worse than the straight
   // grid (the regular plan), or some cell still could not be cut, cut straight.
   std::vector<Outline> refined(placed.size()), straight(placed.size());
