@@ -69,15 +69,6 @@ class PixelError {
   std::vector<cv::Rect> win_;
 };
 
-// Index of the cell along one axis at coordinate `x` in scan line `y` under `cuts` (the cuts
-// across that axis): a pixel left of band i is left of cut i whatever the cut does.
-int side_index(const std::vector<std::vector<int>>& cuts, int pitch, int half, int n, int x, int y) {
-  const int i = (x + half) / pitch;  // the cut whose band [i*pitch - half, i*pitch + half) holds x, if any
-  if (i >= 1 && i <= n - 1 && x >= i * pitch - half && x < i * pitch + half) {
-    return x >= cuts[static_cast<std::size_t>(i)][static_cast<std::size_t>(y)] ? i : i - 1;
-  }
-  return std::min(x / pitch, n - 1);
-}
 
 // Minimum-cost path through an n x m cost table (row k: the cost of each of m positions at
 // step k), moving at most one position per step, and not at all into steps with
@@ -162,6 +153,14 @@ std::vector<std::vector<int>> straight_cuts(int n, int pitch, int length) {
 }
 
 }  // namespace
+
+int side_index(const std::vector<std::vector<int>>& cuts, int pitch, int half, int n, int x, int y) {
+  const int i = (x + half) / pitch;  // the cut whose band [i*pitch - half, i*pitch + half) holds x, if any
+  if (i >= 1 && i <= n - 1 && x >= i * pitch - half && x < i * pitch + half) {
+    return x >= cuts[static_cast<std::size_t>(i)][static_cast<std::size_t>(y)] ? i : i - 1;
+  }
+  return std::min(x / pitch, n - 1);
+}
 
 cv::Rect cell_window(const SeamInput& in, int c, int r) {
   const cv::Rect result(0, 0, in.cols * in.pitch, in.rows * in.pitch);

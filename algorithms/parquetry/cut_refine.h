@@ -26,6 +26,11 @@ struct SeamInput {
   std::vector<cv::Mat> available;
 };
 
+// Index (0 .. n-1) of the cell along one axis at coordinate `x` in scan line `y` under `cuts`
+// (the n + 1 cuts across that axis, each within its band [i*pitch - half, i*pitch + half]):
+// a pixel outside every band is in the cell its grid square says, whatever the cuts do.
+int side_index(const std::vector<std::vector<int>>& cuts, int pitch, int half, int n, int x, int y);
+
 // Window of cell (c, r) in result px, clipped to the result.
 cv::Rect cell_window(const SeamInput& in, int c, int r);
 

@@ -10,15 +10,11 @@ namespace atelier::parquetry {
 
 namespace {
 
-cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
-  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
-}
-
 // The rect's corners (window px) on the sheet.
 std::vector<cv::Point2d> on_sheet(const cv::Rect& r, const cv::Matx23d& to_sheet) {
-  return {apply(to_sheet, cv::Point2d(r.x, r.y)), apply(to_sheet, cv::Point2d(r.x + r.width, r.y)),
-          apply(to_sheet, cv::Point2d(r.x + r.width, r.y + r.height)),
-          apply(to_sheet, cv::Point2d(r.x, r.y + r.height))};
+  return {transformed(cv::Point2d(r.x, r.y), to_sheet), transformed(cv::Point2d(r.x + r.width, r.y), to_sheet),
+          transformed(cv::Point2d(r.x + r.width, r.y + r.height), to_sheet),
+          transformed(cv::Point2d(r.x, r.y + r.height), to_sheet)};
 }
 
 // Pixels of `labels` whose centre lies inside `polygon` (sheet px) set to `label`.
@@ -92,7 +88,7 @@ std::vector<cv::Mat> available_wood(const std::vector<const Placed*>& placed,
         for (int x = 0; x < avail.cols; ++x) {
           const cv::Point2d centre(x + 0.5, y + 0.5);
           if (core.contains({x, y})) continue;
-          const cv::Point2d q = apply(to_sheet, centre);
+          const cv::Point2d q = transformed(centre, to_sheet);
           const int sx = static_cast<int>(std::floor(q.x)), sy = static_cast<int>(std::floor(q.y));
           if (!roi.contains({sx, sy}) || !free_wood[s].at<uchar>(sy, sx)) continue;
           const double other = to_other.at<float>(sy - roi.y, sx - roi.x);

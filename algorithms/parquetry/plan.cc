@@ -213,21 +213,23 @@ std::vector<Plan> make_plans(const std::vector<cv::Mat>& targets,
   for (const Job& job : jobs) {
     for (const Placed& pl : job.placed) all.push_back(&pl);
   }
-  std::vector<cv::Mat> available;
-  if (p.refine == Refine::dp) available = available_wood(all, sheets, stock, wood, r, p.kerf_mm);
-  std::size_t first = 0;
+  const std::vector<cv::Mat> available =
+      p.refine == Refine::dp ? available_wood(all, sheets, stock, wood, r, p.kerf_mm) : std::vector<cv::Mat>();
+  auto next = available.begin();
 
   std::vector<Plan> plans;
   for (Job& job : jobs) {
-    const std::vector<cv::Mat> mine(available.begin() + std::min(first, available.size()),
-                                    available.begin() + std::min(first + job.placed.size(), available.size()));
-    first += job.placed.size();
+    std::vector<cv::Mat> mine;  // this target's cells' (none unless dp)
+    if (!available.empty()) {
+      mine.assign(next, next + static_cast<std::ptrdiff_t>(job.placed.size()));
+      next += static_cast<std::ptrdiff_t>(job.placed.size());
+    }
     const SeamCosts seams = final_outlines(job.shapes, job.plan.target, job.f1, job.f2, wood, mine, p, job.placed);
     job.plan.seam_cost_straight = seams.straight;
     job.plan.seam_cost_refined = seams.refined;
-    job.plan.seams_refined = seams.seams_kept;
+    job.plan.seams_refined = seams.seams_refined;
     job.plan.seams_straightened = seams.seams_straightened;
-    job.plan.curves_cut = p.refine == Refine::dp && seams.kept_refined;
+    job.plan.curves_cut = seams.curves_cut;
     finish(job, wood, sheets, r);
     check_fabricable(job.plan, job.shapes, p);
     plans.push_back(std::move(job.plan));

@@ -337,7 +337,7 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::
   Seams seams = refine_seams(in, 2);
   SeamCosts costs{seams.straight_cost, seams.refined_cost};
   const SeamChoice choice = choose_seams(seams, in, wood_bgr, target, p.px_per_mm);
-  costs.seams_kept = choice.kept;
+  costs.seams_refined = choice.kept;
   costs.seams_straightened = choice.straightened;
   std::vector<Outline> outlines;
   const bool cuttable = cuttable_seam_outlines(seams, shapes, in.available, p, outlines);
@@ -349,10 +349,10 @@ SeamCosts final_outlines(const Shapes& shapes, const cv::Mat& target, const cv::
     straight[k] = shapes.outlines[placed[k].cell];
   }
   const double r = p.px_per_mm;
-  costs.kept_refined = cuttable && blurred_ssim(paint(placed, refined, wood, target.size()), target, r) >=
+  costs.curves_cut = cuttable && blurred_ssim(paint(placed, refined, wood, target.size()), target, r) >=
                        blurred_ssim(paint(placed, straight, wood, target.size()), target, r);
   for (std::size_t k = 0; k < placed.size(); ++k) {
-    placed[k].outline_px = costs.kept_refined ? refined[k] : straight[k];
+    placed[k].outline_px = costs.curves_cut ? refined[k] : straight[k];
   }
   return costs;
 }

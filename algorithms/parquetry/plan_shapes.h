@@ -52,8 +52,10 @@ bool place_cell(const Shapes& shapes, int cell, const cv::Mat& f1, const cv::Mat
 
 struct SeamCosts {
   double straight = 0, refined = 0;   // eq. 8 of the straight and the dp cuts
-  int seams_kept = 0, seams_straightened = 0;  // seam_choice.h
-  bool kept_refined = true;  // false: the curves read worse than the straight grid, cut straight
+  // As in Plan: seams left refined / put back straight (seam_choice.h), and whether the
+  // curves are cut (false: not dp, or they read worse than the straight grid, or cannot be cut).
+  int seams_refined = 0, seams_straightened = 0;
+  bool curves_cut = false;
 };
 
 // refine = dp: the cuts in the overlaps (eq. 8-9), each seam kept only where it raises the

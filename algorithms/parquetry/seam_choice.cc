@@ -82,19 +82,8 @@ class Painter {
   }
 
  private:
-  // Cuts stay within half a pitch of their line: only the two nearest can pass a pixel.
-  int col_of(int x, int y) const {
-    int c = std::min(x / in_.pitch, in_.cols - 1);
-    if (c >= 1 && x < s_.vertical[static_cast<std::size_t>(c)][static_cast<std::size_t>(y)]) --c;
-    else if (c + 1 <= in_.cols - 1 && x >= s_.vertical[static_cast<std::size_t>(c + 1)][static_cast<std::size_t>(y)]) ++c;
-    return c;
-  }
-  int row_of(int x, int y) const {
-    int r = std::min(y / in_.pitch, in_.rows - 1);
-    if (r >= 1 && y < s_.horizontal[static_cast<std::size_t>(r)][static_cast<std::size_t>(x)]) --r;
-    else if (r + 1 <= in_.rows - 1 && y >= s_.horizontal[static_cast<std::size_t>(r + 1)][static_cast<std::size_t>(x)]) ++r;
-    return r;
-  }
+  int col_of(int x, int y) const { return side_index(s_.vertical, in_.pitch, in_.half, in_.cols, x, y); }
+  int row_of(int x, int y) const { return side_index(s_.horizontal, in_.pitch, in_.half, in_.rows, y, x); }
   const Seams& s_;
   const SeamInput& in_;
   const std::vector<cv::Mat>& wood_;
