@@ -31,14 +31,16 @@ std::vector<KindInfo> make_kinds() {
                .machine_input = MachineInput::knit_pattern,
                .machine_file = kKnitPatternFile,
                .drivers = {{kAyabDriver, true}},
-               .companions = {kRelaxMaskSuffix}});
+               .companions = {kRelaxMaskSuffix},
+               .previews = {"preview.png", kKnitPatternFile}});
   k.push_back({.name = "cut",
                .input = KindInput::svg,
                .validate = [](const toml::table& t, const std::string& s) { read_cut_params(t, s); },
                .convert = convert_cut,
                .machine_input = MachineInput::gcode,
                .machine_file = kCutGcodeFile,
-               .drivers = {{kGrblDriver, true}}});
+               .drivers = {{kGrblDriver, true}},
+               .previews = {"preview.png"}});
   k.push_back({.name = "parquetry",
                .input = KindInput::image,
                .validate = [](const toml::table& t, const std::string& s) { read_parquetry_params(t, s); },
@@ -47,6 +49,7 @@ std::vector<KindInfo> make_kinds() {
                .machine_input = MachineInput::gcode,
                .machine_file = kParquetryGcodeFile,
                .drivers = {{kGrblDriver, true}},
+               .previews = {"preview.png", "assembly.svg"},
                .batches = true,
                .uses_wood = true});
   k.push_back({.name = "embroidery",
@@ -58,7 +61,8 @@ std::vector<KindInfo> make_kinds() {
                .machine_file = kDesignStem,
                .formats = stitch_formats(),
                .default_formats = default_stitch_formats(),
-               .drivers = {{kFileDropDriver, true}}});
+               .drivers = {{kFileDropDriver, true}},
+               .previews = {"preview.png", "stitches.png", "regions.png"}});
   k.push_back({.name = "lace",
                .input = KindInput::job_file,
                .validate = [](const toml::table& t, const std::string& s) { read_lace_params(t, s); },
@@ -66,7 +70,8 @@ std::vector<KindInfo> make_kinds() {
                .resolve_config_paths = resolve_lace_config_paths,
                .machine_input = MachineInput::lace_chart,
                .machine_file = kLaceChartFile,
-               .drivers = {{kAyabDriver, false}}});
+               .drivers = {{kAyabDriver, false}},
+               .previews = {"preview.png", "chart.svg"}});
   k.push_back({.name = "sketch",
                .input = KindInput::image,
                .validate = [](const toml::table& t, const std::string& s) { read_sketch_params(t, s); },
@@ -74,14 +79,16 @@ std::vector<KindInfo> make_kinds() {
                .resolve_config_paths = resolve_sketch_config_paths,
                .machine_input = MachineInput::gcode,
                .machine_file = kSketchGcodeFile,
-               .drivers = {{kGrblDriver, true}}});
+               .drivers = {{kGrblDriver, true}},
+               .previews = {"preview.png", "lines.svg"}});
   k.push_back({.name = "engrave",
                .input = KindInput::image,
                .validate = [](const toml::table& t, const std::string& s) { read_engrave_params(t, s); },
                .convert = convert_engrave,
                .machine_input = MachineInput::gcode,
                .machine_file = kEngraveGcodeFile,
-               .drivers = {{kGrblDriver, true}}});
+               .drivers = {{kGrblDriver, true}},
+               .previews = {"preview.png"}});
   return k;
 }
 

@@ -68,6 +68,8 @@ struct KindInfo {
   // Files that travel with an input NAME.EXT as NAME.EXT<suffix> (besides the .toml sidecar
   // every kind has): claimed, kept and retried with it.
   std::vector<std::string_view> companions;
+  // Outputs that picture the result, best first (the web page shows them on a job's page).
+  std::vector<std::string_view> previews;
   bool batches = false;    // queued jobs with equal parameters are converted together
   bool uses_wood = false;  // plans on the workshop's wood library and veneer stock
 };

@@ -9,6 +9,7 @@
 #include "convert/kinds.h"
 #include "convert/common/laser_params.h"
 #include "convert/common/param_table.h"
+#include "daemon/web/address_filter.h"
 
 namespace atelier {
 namespace {
@@ -109,6 +110,48 @@ DeviceConfig read_device(const toml::table& t, const std::string& source, size_t
   return d;
 }
 
+WebConfig read_web(const toml::table& t, const std::string& source) {
+  TableReader r(t, source, "web");
+  WebConfig w;
+  w.enabled = r.get_bool("enabled", w.enabled);
+  w.listen = r.get_string("listen", w.listen);
+  try {
+    const web::ListenAddress address = web::parse_listen_address(w.listen);
+    w.host = address.host;
+    w.port = address.port;
+  } catch (const BadInput& e) {
+    r.fail("listen", e.what());
+  }
+  w.allow_from = r.get_string_list("allow_from", web::default_allow_from(w.host));
+  try {
+    web::AddressFilter check(w.allow_from);
+  } catch (const BadInput& e) {
+    r.fail("allow_from", e.what());
+  }
+  w.token = r.get_string("token", "");
+  // A short token is guessed; the page's login throttle is no defence for scripts' tokens.
+  if (!w.token.empty() && w.token.size() < 16)
+    r.fail("token", "must be at least 16 characters (e.g. `openssl rand -hex 24`), or \"\" for none");
+  w.session_hours = static_cast<int>(r.get_int("session_hours", w.session_hours, 1, 24 * 365));
+  if (const toml::table* users = r.get_table("users")) {
+    for (const auto& [name, value] : *users) {
+      const std::string user(name.str());
+      const auto* hash = value.as_string();
+      const std::string key = "users." + user;
+      // crypt(3) hashes start with $id$ ($y$ yescrypt, $6$ SHA-512, $2b$ bcrypt).
+      if (!hash || hash->get().size() < 4 || hash->get().front() != '$')
+        throw ParamError(where(value, source) + "key 'web." + key +
+                         "': expected a crypt(3) password hash as a string, e.g. from "
+                         "`atelierd --hash-password` or `mkpasswd -m yescrypt`");
+      if (user.empty() || user.find_first_of(" \t\r\n:") != std::string::npos)
+        throw ParamError(where(value, source) + "key 'web." + key + "': a user name has no spaces or ':'");
+      w.users[user] = hash->get();
+    }
+  }
+  r.finish();
+  return w;
+}
+
 Config from_table(const toml::table& root, const std::string& source) {
   Config c;
   c.source = source;
@@ -181,6 +224,8 @@ Config from_table(const toml::table& root, const std::string& source) {
       c.devices.push_back(std::move(d));
     }
   }
+  if (const toml::table* web = top.get_table("web")) c.web = read_web(*web, source);
+  else c.web.allow_from = web::default_allow_from(c.web.host);
   top.finish();
   // Relative paths are resolved against the config file's folder, not the daemon's cwd.
   const auto base = std::filesystem::path(source).parent_path();

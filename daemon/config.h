@@ -36,6 +36,21 @@ struct DeviceConfig {
   std::string streaming = "character-counting";
 };
 
+// [web]: the web page and JSON API (docs/web.md). Off unless `enabled`.
+struct WebConfig {
+  bool enabled = false;
+  std::string listen = "127.0.0.1:8631";  // host:port as written ("[::1]:8631" for IPv6)
+  std::string host = "127.0.0.1";         // parsed from `listen`, without brackets
+  int port = 8631;
+  // Who may connect: CIDR blocks, "localhost" or "any" (daemon/web/address_filter.h).
+  // Default: ["localhost"] when `host` is a loopback address, else ["any"].
+  std::vector<std::string> allow_from;
+  std::string token;                      // bearer token for scripts and logins; "" = none
+  int session_hours = 12;                 // a page login lasts this long
+  std::map<std::string, std::string> users;  // [web.users]: name -> crypt(3) password hash
+  bool can_act() const { return !token.empty() || !users.empty(); }
+};
+
 struct Config {
   std::filesystem::path source;      // the file this was read from
 
@@ -88,6 +103,8 @@ struct Config {
   bool laser_check_first = false;
 
   std::vector<DeviceConfig> devices;  // [[device]]
+
+  WebConfig web;  // [web]
 };
 
 // Reads and validates `file`. Throws ParamError ("FILE:LINE: key 'x': problem").

@@ -61,6 +61,9 @@ struct ControlRequest {
   // Descriptors the client passed with this line (SCM_RIGHTS), in the order it sent them; owned
   // by the request (closed with it unless the handler takes them).
   std::vector<UniqueFd> files;
+  // Who asked, for the job's history, when not a control-socket client: set by the web server
+  // ("the web page by alice from 192.168.1.7"); "" for the control socket.
+  std::string via;
 };
 
 struct ControlLimits {

@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -73,6 +74,11 @@ JobFilter list_filter(const nlohmann::json& args) {
     const int64_t limit = args["limit"].get<int64_t>();
     filter.limit = limit == 0 ? -1 : limit;
   }
+  if (args.contains("offset")) {
+    if (!args["offset"].is_number_integer() || args["offset"].get<int64_t>() < 0)
+      throw ControlError("list needs an \"offset\" that is an integer >= 0 (jobs to skip, newest first)");
+    filter.offset = args["offset"].get<int64_t>();
+  }
   return filter;
 }
 
@@ -118,6 +124,7 @@ Daemon::Daemon(fs::path config_file, Config initial)
                             {"reason", change.reason}};
     if (change.progress_only) event["progress"] = true;
     control_->publish(event);
+    if (web_) web_->publish_job(event);
   });
   jobs_->ensure_layout();
   purge_ = std::make_unique<PurgeWorker>(*store_, layout, [this] {
@@ -177,11 +184,20 @@ Daemon::Daemon(fs::path config_file, Config initial)
         for (const auto& d : devices_) d->wake();
       });
   control_ = std::make_unique<ControlServer>(c.socket_path, c.socket_group,
-                                             [this](ControlRequest& request) { return handle(request); });
+                                             [this](ControlRequest& request) { return serve(request); });
+  if (c.web.enabled) {
+    web::WebBackend backend;
+    backend.call = [this](ControlRequest& request) { return serve(request); };
+    backend.config = [this] { return config(); };
+    backend.store = store_.get();
+    web_ = std::make_unique<web::WebServer>(c.web, std::move(backend));
+  }
 }
 
 Daemon::~Daemon() {
-  // The control thread calls into everything else: stop it first (also when run() threw).
+  // The control and web threads call into everything else: stop them first (also when run()
+  // threw).
+  if (web_) web_->stop();
   if (control_) control_->stop();
   if (usb_monitor_) usb_monitor_->stop();
   if (purge_) purge_->stop();
@@ -211,7 +227,27 @@ nlohmann::json Daemon::status() {
           {"workers", c->workers},
           {"kinds", known_kinds()},
           {"queue", queue},
-          {"devices", devices_json()}};
+          {"devices", devices_json()},
+          {"web", web_status()}};
+}
+
+nlohmann::json Daemon::web_status() const {
+  auto c = config();
+  if (!c->web.enabled) return {{"enabled", false}};
+  nlohmann::json out = {{"enabled", true}, {"listen", c->web.listen}, {"listening", web_ && web_error_.empty()}};
+  if (web_ && web_error_.empty()) {
+    const std::string host = c->web.host.find(':') != std::string::npos ? "[" + c->web.host + "]" : c->web.host;
+    out["url"] = "http://" + host + ":" + std::to_string(web_->port()) + "/";
+  }
+  if (!web_error_.empty()) out["error"] = web_error_;
+  return out;
+}
+
+nlohmann::json Daemon::serve(ControlRequest& request) {
+  static const std::set<std::string> kReading = {"status", "list", "show", "devices"};
+  if (kReading.count(request.verb)) return handle(request);
+  std::lock_guard lock(act_mu_);
+  return handle(request);
 }
 
 nlohmann::json Daemon::devices_json() const {
@@ -290,7 +326,8 @@ nlohmann::json Daemon::submit(ControlRequest& request) {
   check_sets(kind, sets);
   int64_t id;
   try {
-    id = jobs_->submit(file.get(), name, kind, sets_to_params(sets), config()->limits.max_file_bytes);
+    id = jobs_->submit(file.get(), name, kind, sets_to_params(sets), config()->limits.max_file_bytes,
+                       request.via.empty() ? "submitted with atelierctl" : "submitted through " + request.via);
   } catch (const std::runtime_error& e) {
     throw ControlError(e.what());
   }
@@ -603,8 +640,10 @@ void Daemon::reload() {
     auto old = config();
     if (fresh.spool_dir != old->spool_dir || fresh.store_path != old->store_path ||
         fresh.socket_path != old->socket_path || fresh.workers != old->workers ||
-        fresh.watch != old->watch) {
-      log::warning("reload: spool, store, socket, watch and workers take effect at restart");
+        fresh.watch != old->watch || fresh.web.enabled != old->web.enabled ||
+        fresh.web.listen != old->web.listen || fresh.web.allow_from != old->web.allow_from) {
+      log::warning("reload: spool, store, socket, watch, workers and [web] enabled, listen and allow_from "
+                   "take effect at restart");
     }
     {
       std::lock_guard lock(config_mu_);
@@ -645,6 +684,16 @@ int Daemon::run() {
     }
   }
   pickup_->scan();
+  if (web_) {
+    try {
+      web_->start();
+    } catch (const std::exception& e) {
+      // The machines and the hot folder matter more than the page: run on without it, and say
+      // why in the log and in `atelierctl status` (set before the control thread starts).
+      web_error_ = e.what();
+      log::error(web_error_);
+    }
+  }
   control_->start();
 
   uint64_t watchdog_usec = 0;
@@ -692,6 +741,7 @@ int Daemon::run() {
   }
   sd_notify(0, "STOPPING=1");
   log::info("stopping: no new jobs; conversions in progress are re-queued");
+  if (web_) web_->stop();
   pickup_.reset();
   hot_folder_.reset();
   purge_->stop();

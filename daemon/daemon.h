@@ -2,8 +2,8 @@
 // notification, driven by one main loop (signals, inotify, timers).
 //
 // Threading: run() is the main loop and must be called from the main thread with SIGTERM,
-// SIGINT and SIGHUP blocked (the constructor blocks them). Workers and the control server
-// run on their own threads.
+// SIGINT and SIGHUP blocked (the constructor blocks them). Workers, the control server and
+// the web server run on their own threads; requests from the last two meet in serve().
 #pragma once
 
 #include <chrono>
@@ -23,6 +23,7 @@
 #include "daemon/purge.h"
 #include "daemon/scheduler.h"
 #include "daemon/store.h"
+#include "daemon/web/web_server.h"
 #include "drivers/usb_hotplug.h"
 
 namespace atelier {
@@ -38,8 +39,13 @@ class Daemon {
   int run();
 
  private:
+  // A request from the control socket or the web server: reading verbs at once (the store and
+  // the devices are thread-safe), verbs that act one at a time (act_mu_), as the control
+  // socket alone always served them.
+  nlohmann::json serve(ControlRequest& request);
   nlohmann::json handle(ControlRequest& request);
   nlohmann::json status();
+  nlohmann::json web_status() const;  // status's "web": enabled, listen, listening, url, error
   // `submit`: the file read from the client's descriptor (client_file.h), the --set values
   // checked by an `atelier-convert --check` child and stored unparsed (job_sets.h).
   nlohmann::json submit(ControlRequest& request);
@@ -75,6 +81,11 @@ class Daemon {
   std::unique_ptr<Store> store_;
   JobLog job_log_;  // every job change, as a record with the job's fields (job_log.h)
   std::unique_ptr<ControlServer> control_;
+  std::mutex act_mu_;  // serve(): one acting request at a time, from either server
+  // [web] enabled: the page and JSON API (docs/web.md); null when off. web_error_: why it
+  // could not listen, for `status` (the daemon runs on without it).
+  std::unique_ptr<web::WebServer> web_;
+  std::string web_error_;
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<PurgeWorker> purge_;  // retention: at start-up, then hourly
   std::unique_ptr<SubprocessRunner> runner_;

@@ -251,7 +251,7 @@ std::optional<int64_t> JobService::claim(const fs::path& entry) {
 }
 
 int64_t JobService::submit(int fd, const std::string& name, const std::string& kind,
-                           const std::string& params, uint64_t max_bytes) {
+                           const std::string& params, uint64_t max_bytes, const std::string& reason) {
   if (!is_known_kind(kind))
     throw BadInput("unknown kind '" + kind + "'; this build converts: " +
                              known_kinds_text());
@@ -281,7 +281,7 @@ int64_t JobService::submit(int fd, const std::string& name, const std::string& k
   job.id = id;
   job.kind = kind;
   job.name = name;
-  job.reason = "submitted with atelierctl";
+  job.reason = reason;
   job.work_dir = work.string();
   job.params = params;
   insert(job);

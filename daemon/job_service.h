@@ -83,8 +83,9 @@ class JobService {
   // `--set` values as stored (job_sets.h). Refuses what is not a regular file and a file larger
   // than `max_bytes`. Throws BadInput naming the file when it cannot be read, is refused or the
   // kind is unknown; the copy is complete before claim.json exists.
+  // `reason`: the job's first reason, how it came ("submitted with atelierctl").
   int64_t submit(int fd, const std::string& name, const std::string& kind, const std::string& params,
-                 uint64_t max_bytes);
+                 uint64_t max_bytes, const std::string& reason = "submitted with atelierctl");
 
   // After a start: finishes half-done moves, re-queues interrupted conversions (partial
   // outputs removed), marks running jobs interrupted, adopts claimed files whose row never

@@ -399,9 +399,10 @@ void bind_filter(Stmt& s, const JobFilter& filter) {
 std::vector<Job> Store::list(const JobFilter& filter) {
   std::lock_guard lock(mu_);
   Stmt s(db_, std::string("SELECT ") + kJobColumns + " FROM jobs" + filter_clause(filter) +
-                  " ORDER BY id DESC LIMIT ?3");
+                  " ORDER BY id DESC LIMIT ?3 OFFSET ?4");
   bind_filter(s, filter);
   s.bind(3, filter.limit < 0 ? int64_t{-1} : filter.limit);  // SQLite: LIMIT -1 is no limit
+  s.bind(4, std::max<int64_t>(0, filter.offset));
   std::vector<Job> jobs;
   while (s.step()) jobs.push_back(read_job(db_, s));
   return jobs;

@@ -90,6 +90,7 @@ struct JobFilter {
   std::optional<JobState> state;
   std::optional<std::string> kind;
   int64_t limit = 1000;  // the newest `limit` jobs; negative: every job (count() ignores it)
+  int64_t offset = 0;    // skip this many of the newest first (paging; count() ignores it)
 };
 
 class Store {

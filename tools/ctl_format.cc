@@ -298,6 +298,11 @@ std::string format_status(const json& status) {
     for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? ", " : "") + parts[i];
     out += "\n";
   }
+  if (status.contains("web") && status["web"].is_object() && status["web"].value("enabled", false)) {
+    const json& web = status["web"];
+    if (web.contains("url")) out += "web:     " + text(web, "url") + "\n";
+    else out += "web:     not listening on " + text(web, "listen") + ": " + text(web, "error") + "\n";
+  }
   const json devices = status.contains("devices") ? status["devices"] : json::array();
   if (!devices.is_array() || devices.empty()) {
     out += "devices: no devices configured\n";

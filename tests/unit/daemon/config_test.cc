@@ -320,3 +320,36 @@ TEST(ConfigParquetry, AListOfSheetsGetsAbsoluteImagePaths) {
 
 }  // namespace
 }  // namespace atelier
+
+TEST(Config, WebIsOffByDefaultOnLoopback) {
+  Config c = parse_config("[spool]\ndir = \"/s\"\n", "x.toml");
+  EXPECT_FALSE(c.web.enabled);
+  EXPECT_EQ(c.web.host, "127.0.0.1");
+  EXPECT_EQ(c.web.port, 8631);
+  EXPECT_EQ(c.web.allow_from, std::vector<std::string>{"localhost"});
+  EXPECT_FALSE(c.web.can_act());
+}
+
+TEST(Config, WebReadsListenTokenAndUsers) {
+  Config c = parse_config(
+      "[spool]\ndir = \"/s\"\n[web]\nenabled = true\nlisten = \"0.0.0.0:9000\"\n"
+      "token = \"0123456789abcdef\"\nsession_hours = 2\n[web.users]\nalice = \"$y$j9T$abc$def\"\n",
+      "x.toml");
+  EXPECT_TRUE(c.web.enabled);
+  EXPECT_EQ(c.web.host, "0.0.0.0");
+  EXPECT_EQ(c.web.port, 9000);
+  EXPECT_EQ(c.web.allow_from, std::vector<std::string>{"any"});  // a LAN address: the LAN
+  EXPECT_EQ(c.web.session_hours, 2);
+  EXPECT_EQ(c.web.users.at("alice"), "$y$j9T$abc$def");
+  EXPECT_TRUE(c.web.can_act());
+}
+
+TEST(Config, WebRefusesBadValuesNamingTheKey) {
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web]\nlisten = \"8631\"\n").find("web.listen"), std::string::npos);
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web]\nallow_from = [\"lan\"]\n").find("web.allow_from"),
+            std::string::npos);
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web]\ntoken = \"short\"\n").find("at least 16"), std::string::npos);
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web.users]\nbob = \"hunter2\"\n").find("web.users.bob"),
+            std::string::npos);
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web]\nenable = true\n").find("enable"), std::string::npos);
+}

@@ -337,3 +337,42 @@ TEST_F(SystemdUnitTest, InstallPutsFilesWhereSystemdLooks) {
 }
 
 }  // namespace
+
+TEST_F(SystemdUnitTest, GeneratorOpensTheSandboxOnlyForTheWebPage) {
+  // The installed generator runs the installed daemon on the installed config: nothing while
+  // [web] is off; with it on, a drop-in allowing AF_INET from localhost, which systemd accepts
+  // on top of the unit.
+  const fs::path prefix = dir_ / "prefix";
+  Result r = sh("cmake --install '" + kBuild.string() + "' --prefix '" + prefix.string() + "' --component atelier");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const fs::path generator = prefix / "lib/systemd/system-generators/atelierd-generator";
+  ASSERT_TRUE(fs::exists(generator));
+  const fs::path out = dir_ / "generated";
+  fs::create_directories(out);
+  r = sh("'" + generator.string() + "' '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(out / "atelierd.service.d/50-web.conf")) << "a drop-in with [web] off";
+
+  std::ofstream(prefix / "etc/atelier/atelierd.toml", std::ios::app)
+      << "\n[web]\nenabled = true\nlisten = \"127.0.0.1:8631\"\n";
+  r = sh("'" + generator.string() + "' '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const std::string dropin = read_file(out / "atelierd.service.d/50-web.conf");
+  EXPECT_EQ(service_values(dropin, "RestrictAddressFamilies"),
+            (std::vector<std::string>{"", "AF_UNIX AF_NETLINK AF_INET"})) << dropin;
+  EXPECT_EQ(service_values(dropin, "IPAddressAllow"), std::vector<std::string>{"localhost"}) << dropin;
+
+  // The unit with the drop-in beside it, as systemd loads them.
+  fs::copy_file(prefix / "lib/systemd/system/atelierd.service", out / "atelierd.service");
+  r = sh("SYSTEMD_LOG_COLOR=0 SYSTEMD_UNIT_PATH='" + out.string() +
+         ":' systemd-analyze verify --man=no --generators=no '" + (out / "atelierd.service").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lines_naming_atelierd(r.err), std::vector<std::string>{}) << r.err;
+
+  // A config that does not load: no drop-in, the unit's own sandbox stays.
+  fs::remove(out / "atelierd.service.d/50-web.conf");
+  std::ofstream(prefix / "etc/atelier/atelierd.toml", std::ios::app) << "\nbogus = 1\n";
+  r = sh("'" + generator.string() + "' '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_FALSE(fs::exists(out / "atelierd.service.d/50-web.conf"));
+}
