@@ -235,10 +235,7 @@ nlohmann::json Daemon::web_status() const {
   auto c = config();
   if (!c->web.enabled) return {{"enabled", false}};
   nlohmann::json out = {{"enabled", true}, {"listen", c->web.listen}, {"listening", web_ && web_error_.empty()}};
-  if (web_ && web_error_.empty()) {
-    const std::string host = c->web.host.find(':') != std::string::npos ? "[" + c->web.host + "]" : c->web.host;
-    out["url"] = "http://" + host + ":" + std::to_string(web_->port()) + "/";
-  }
+  if (web_ && web_error_.empty()) out["url"] = web::page_url(c->web.host, web_->port());
   if (!web_error_.empty()) out["error"] = web_error_;
   return out;
 }

@@ -173,7 +173,11 @@ nlohmann::json LaserDevice::machine_command(const MachineCommand& cmd) {
   std::future<nlohmann::json> answer = req->answer.get_future();
   {
     std::lock_guard lock(mu_);
-    if (current_) {
+    // A job whose end is already recorded is only being let go by the worker, which serves the
+    // command right after: `atelierctl show` says completed, so the command must not be refused.
+    const std::optional<Job> on = current_ ? jobs_.store().get(*current_) : std::nullopt;
+    const bool winding_down = !framing_ && on && on->state != JobState::running;
+    if (current_ && !winding_down) {
       const bool held = controls_ && controls_->hold.load();
       throw BadInput(config_.name + " is " + (framing_ ? "framing " : held ? "holding " : "running ") +
                      job_tag(*current_) + ": the controller takes operator commands only between jobs (`atelierctl "

@@ -230,6 +230,16 @@ void WebServer::serve_submit(const httplib::Request& req, httplib::Response& res
   }
   const auto config = backend_.config();
   const uint64_t max_bytes = config->limits.max_file_bytes;
+  auto refuse_too_big = [&](const std::string& what) {
+    json_error(res, 413, what + ": larger than the hot folder's limit of " + std::to_string(max_bytes) +
+                             " bytes ([limits] max_file_bytes)");
+    res.set_header("Connection", "close");  // the rest of the body is never read
+  };
+  // Announced larger than any file it may carry: refused before a byte is stored.
+  if (req.get_header_value<uint64_t>("Content-Length") > max_bytes + kMaxJsonBody) {
+    refuse_too_big("the upload");
+    return;
+  }
   UniqueFd file = upload_file(config->spool_dir);
   if (!file.valid()) {
     json_error(res, 500, std::string("cannot store the upload in the spool: ") + std::strerror(errno));
@@ -268,11 +278,9 @@ void WebServer::serve_submit(const httplib::Request& req, httplib::Response& res
         return true;
       });
   end_field();
-  if (too_big) {
-    json_error(res, 413, (filename.empty() ? std::string("the upload") : upload_name(filename)) +
-                             ": larger than the hot folder's limit of " + std::to_string(max_bytes) +
-                             " bytes ([limits] max_file_bytes)");
-    res.set_header("Connection", "close");
+  // httplib says 413 when the body outgrew its own cap (set from the limit at start).
+  if (too_big || res.status == 413) {
+    refuse_too_big(filename.empty() ? std::string("the upload") : upload_name(filename));
     return;
   }
   if (write_failed) {

@@ -36,6 +36,11 @@ std::string bind_failure(const WebConfig& web) {
 
 }  // namespace
 
+std::string page_url(const std::string& host, int port) {
+  const bool v6 = host.find(':') != std::string::npos;
+  return "http://" + (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port) + "/";
+}
+
 WebServer::WebServer(const WebConfig& web, WebBackend backend, Clock& clock)
     : web_(web),
       backend_(std::move(backend)),
@@ -68,12 +73,9 @@ void WebServer::start() {
   }
   listener_ = std::thread([this] { server_->listen_after_bind(); });
   poller_ = std::thread([this] { poll_devices(); });
-  log::info("web page on http://" + (web_.host.find(':') != std::string::npos ? "[" + web_.host + "]" : web_.host) +
-            ":" + std::to_string(port_) + "/ (allow_from " + [&] {
-              std::string s;
-              for (const auto& a : web_.allow_from) s += (s.empty() ? "" : ", ") + a;
-              return s;
-            }() + ")");
+  std::string allow;
+  for (const auto& a : web_.allow_from) allow += (allow.empty() ? "" : ", ") + a;
+  log::info("web page on " + page_url(web_.host, port_) + " (allow_from " + allow + ")");
 }
 
 void WebServer::stop() {

@@ -51,6 +51,9 @@ struct WebBackend {
   Store* store = nullptr;
 };
 
+// "http://127.0.0.1:8631/", "http://[::1]:8631/": the page's address.
+std::string page_url(const std::string& host, int port);
+
 class WebServer {
  public:
   static constexpr int kThreads = 48;

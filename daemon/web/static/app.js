@@ -197,7 +197,7 @@ async function loadStatus() {
 let statusTimer = 0;
 // Queue counts change with every state change; a burst of them asks for one status.
 function scheduleStatus() {
-  if (!statusTimer) statusTimer = setTimeout(() => { statusTimer = 0; loadStatus(); }, 800);
+  if (!statusTimer) statusTimer = setTimeout(() => { statusTimer = 0; loadStatus(); }, 300);
 }
 
 function renderStatus() {
@@ -676,7 +676,7 @@ function renderJobDevice() {
   box.replaceChildren(el('a', { href: '#/machines', text: d.name }), ` (${d.driver}${d.port ? `, ${d.port}` : ''}) `,
     el('span', { class: `dstate d-${d.state}`, text: d.state }),
     other ? el('span', { class: 'device-detail' }, 'busy with job ', jobLink(d.job.id), ` ${d.job.name || ''}`)
-      : d.detail ? el('span', { class: `device-detail${WAITING.test(d.detail) ? ' prompt' : ''}`, text: d.detail }) : null);
+      : d.detail ? el('span', { class: `device-detail${WAITING.test(d.detail) ? ' prompt' : ''}`, text: d.detail }) : '');
 }
 
 function jobActions(j) {
@@ -835,6 +835,9 @@ function jobPageEvent(ev) {
   app.job = mergeJob(app.job, ev.job);
   $('#job-page').dataset.state = app.job.job.state;
   if (ev.progress && sameState) { renderJobLive(); return; }
+  // What an action set under way ("canceling ...") has happened or been overtaken: the new
+  // state and reason say it now.
+  if (!sameState && app.actionMsg && app.actionMsg.id === app.route.id && !app.actionMsg.error) app.actionMsg = null;
   renderJob();
   scheduleJobReload();
 }

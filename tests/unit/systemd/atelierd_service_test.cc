@@ -353,8 +353,9 @@ TEST_F(SystemdUnitTest, GeneratorOpensTheSandboxOnlyForTheWebPage) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(out / "atelierd.service.d/50-web.conf")) << "a drop-in with [web] off";
 
-  std::ofstream(prefix / "etc/atelier/atelierd.toml", std::ios::app)
-      << "\n[web]\nenabled = true\nlisten = \"127.0.0.1:8631\"\n";
+  // The packaged config has [web] with its keys commented out: turn it on there.
+  r = sh("sed -i 's/^# enabled = false /enabled = true /' '" + (prefix / "etc/atelier/atelierd.toml").string() + "'");
+  ASSERT_EQ(r.exit_code, 0);
   r = sh("'" + generator.string() + "' '" + out.string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   const std::string dropin = read_file(out / "atelierd.service.d/50-web.conf");
