@@ -91,7 +91,16 @@ void WebServer::stop() {
   if (poller_.joinable()) poller_.join();
 }
 
-void WebServer::publish_job(const nlohmann::json& event) { hub_.publish(sse_message("job", event.dump())); }
+void WebServer::publish_job(const nlohmann::json& event) {
+  hub_.publish(sse_message("job", event.dump()));
+  if (event.value("progress", false)) return;
+  // A job that changed state has usually changed its machine's too: look at once.
+  {
+    std::lock_guard lock(mu_);
+    poll_now_ = true;
+  }
+  cv_.notify_all();
+}
 
 void WebServer::poll_devices() {
   // Device states change without a job event (offline, online, a prompt cleared): look four
@@ -113,7 +122,8 @@ void WebServer::poll_devices() {
       devices_ = std::move(parsed);
       hub_.publish(sse_message("devices", now));
     }
-    cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stopping_; });
+    cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stopping_ || poll_now_; });
+    poll_now_ = false;
   }
 }
 

@@ -112,6 +112,7 @@ class WebServer {
   std::mutex mu_;
   std::condition_variable cv_;
   bool stopping_ = false;
+  bool poll_now_ = false;  // a job changed state: the poller looks at the devices at once
   std::string devices_json_ = "[]";  // the last device list published (guarded by mu_)
   nlohmann::json devices_ = nlohmann::json::array();  // the same, parsed
 };

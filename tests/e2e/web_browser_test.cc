@@ -47,9 +47,30 @@ std::vector<std::string> page_errors(Browser& b) {
   return out;
 }
 
+// Clicks the element `css` matches once it is shown and enabled, as a person would: the live
+// page may redraw it meanwhile (a new state, new buttons), so a stale or not yet shown one is
+// looked up again, for up to `timeout`.
+void click_when_ready(Browser& b, const std::string& css, std::chrono::milliseconds timeout = 10s) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  const std::string ready = "(() => { const e = document.querySelector(" + json(css).dump() +
+                            "); return !!e && !e.disabled && e.getClientRects().length > 0; })()";
+  for (;;) {
+    try {
+      if (b.wait_until(ready, 1s)) {
+        b.click(b.find(css));
+        return;
+      }
+    } catch (const std::runtime_error&) {
+      if (std::chrono::steady_clock::now() >= until) throw;
+    }
+    if (std::chrono::steady_clock::now() >= until) throw std::runtime_error("never clickable: " + css);
+    std::this_thread::sleep_for(50ms);
+  }
+}
+
 // Logs in through the page's own form with alice's password.
 void log_in(Browser& b) {
-  b.click(b.find("#login-open"));
+  click_when_ready(b, "#login-open");
   b.send_keys(*b.wait_for("#login-user", 5s), WebRig::kUser);
   b.send_keys(b.find("#login-password"), WebRig::kPassword);
   b.click(b.find("#login-submit"));
@@ -117,7 +138,7 @@ TEST(WebPage, FollowsJobsLiveFromUploadToCancelOnTheKnittingMachine) {
   b.screenshot(shots / "jobs-after-upload.png");
 
   // Its page: the previews load, the outputs are listed for download, the history is there.
-  b.click(b.find("#jobs-body tr[data-job-id=\"" + std::to_string(small) + "\"] a"));
+  click_when_ready(b, "#jobs-body tr[data-job-id=\"" + std::to_string(small) + "\"] a");
   ASSERT_TRUE(b.wait_for("#job-page[data-job-id=\"" + std::to_string(small) + "\"]", 10s));
   ASSERT_TRUE(b.wait_until("document.querySelectorAll('img.preview').length >= 2 && "
                            "[...document.querySelectorAll('img.preview')].every(i => i.complete && i.naturalWidth > 0)",
@@ -136,9 +157,12 @@ TEST(WebPage, FollowsJobsLiveFromUploadToCancelOnTheKnittingMachine) {
       << rig.daemon().log();
   ASSERT_TRUE(b.wait_until("document.querySelector('#job-page progress, #job-page .bar') !== null", 5s));
   b.screenshot(shots / "job-running.png");
-  b.click(*b.wait_for("button[data-action=\"cancel\"]", 5s));
-  b.click(*b.wait_for("#confirm-ok", 5s));
+  click_when_ready(b, "button[data-action=\"cancel\"]");
+  click_when_ready(b, "#confirm-ok");
   ASSERT_TRUE(b.wait_until("document.querySelector('#job-page').dataset.state === 'canceled'", 30s)) << rig.daemon().log();
+  // Once canceled, the page no longer says it is canceling.
+  EXPECT_TRUE(b.wait_until("!/cancel/i.test(document.querySelector('#action-message').textContent)", 5s))
+      << b.text(b.find("#action-message"));
   b.screenshot(shots / "job-canceled.png");
   const json job = rig.daemon().request("show", {{"id", big}})["result"];
   EXPECT_EQ(job["state"], "canceled");

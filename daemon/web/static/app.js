@@ -197,7 +197,7 @@ async function loadStatus() {
 let statusTimer = 0;
 // Queue counts change with every state change; a burst of them asks for one status.
 function scheduleStatus() {
-  if (!statusTimer) statusTimer = setTimeout(() => { statusTimer = 0; loadStatus(); }, 300);
+  if (!statusTimer) statusTimer = setTimeout(() => { statusTimer = 0; loadStatus(); }, 150);
 }
 
 function renderStatus() {
@@ -604,6 +604,7 @@ function showJob(sameJob) {
 async function loadJob() {
   const seq = app.seq;
   const id = app.route.id;
+  if (app.route.page !== 'job' || !id) return;  // a timer set on a job page that was left
   try {
     const data = await api(`/api/jobs/${encodeURIComponent(id)}`);
     if (seq !== app.seq) return;
@@ -654,6 +655,7 @@ function renderJob() {
   renderPreviews(j);
   renderOutputs(j);
   renderHistory(j.history || []);
+  setActionMessage();  // shown or hidden as the job's state now says
 }
 
 // The parts a progress step changes.
@@ -759,10 +761,11 @@ async function doAction(action) {
   const buttons = [...document.querySelectorAll('#job-actions button')];
   for (const b of buttons) b.disabled = true;
   setActionMessage(`${action}…`);
-  let text, error = false;
+  let text, error = false, answeredState = null;
   try {
     const r = await api(`/api/jobs/${encodeURIComponent(j.id)}/${action}`, { method: 'POST', body, act: true });
     text = r && r.effect ? r.effect : `${action}: done; the job is ${(r && r.state) || 'updated'}`;
+    answeredState = r && r.state;
     if (r && r.settling) setTimeout(loadJob, 1500);  // the change shows shortly: look again
   } catch (e) {
     text = `${action} failed: ${e.message}`;
@@ -771,14 +774,17 @@ async function doAction(action) {
   }
   for (const b of buttons) b.disabled = !canAct();
   await loadJob();               // rebuilds the buttons only if the allowed actions changed
-  setActionMessage(text, error); // last, so the answer shows on the settled page
+  setActionMessage(text, error, error ? null : answeredState);  // last: on the settled page
 }
 
-// Kept in app.actionMsg so that it survives the page's refetches of the same job.
-function setActionMessage(text, error) {
-  if (text !== undefined) app.actionMsg = { id: app.route.id, text, error };
+// Kept in app.actionMsg so that it survives the page's refetches of the same job. An answer
+// given in one state ("canceling ..." while running) shows only while the job is still in it:
+// once the job moves on, its state and reason say what happened.
+function setActionMessage(text, error, state) {
+  if (text !== undefined) app.actionMsg = { id: app.route.id, text, error, state };
   const a = app.actionMsg;
-  $('#action-message').textContent = a ? a.text : '';
+  const current = !a || !a.state || (app.job && app.job.job.state === a.state);
+  $('#action-message').textContent = a && current ? a.text : '';
   $('#action-message').className = `message${a && a.error ? ' error' : ''}`;
 }
 
@@ -837,7 +843,7 @@ function jobPageEvent(ev) {
   if (ev.progress && sameState) { renderJobLive(); return; }
   // What an action set under way ("canceling ...") has happened or been overtaken: the new
   // state and reason say it now.
-  if (!sameState && app.actionMsg && app.actionMsg.id === app.route.id && !app.actionMsg.error) app.actionMsg = null;
+
   renderJob();
   scheduleJobReload();
 }
