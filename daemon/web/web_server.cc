@@ -11,6 +11,7 @@
 
 #include "base/error.h"
 #include "base/unique_fd.h"
+#include "convert/kinds.h"
 #include "daemon/log.h"
 #include "daemon/web/http_reply.h"
 #include "daemon/web/web_assets.h"
@@ -22,6 +23,31 @@ namespace {
 constexpr const char* kPagePolicy =
     "default-src 'self'; img-src 'self' data: blob:; script-src 'self'; style-src 'self'; "
     "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'";
+
+// Each kind's machine as the page needs to know it (a laser start asks first; a knitting job
+// resumes from a row), from the registry of kinds.
+nlohmann::json kind_machines() {
+  nlohmann::json out = nlohmann::json::object();
+  for (const KindInfo& k : kinds()) {
+    const char* machine = "none";
+    switch (k.machine_input) {
+      case MachineInput::knit_pattern:
+      case MachineInput::lace_chart:
+        machine = "knitting";
+        break;
+      case MachineInput::gcode:
+        machine = "laser";
+        break;
+      case MachineInput::stitch_files:
+        machine = "files";
+        break;
+      case MachineInput::none:
+        break;
+    }
+    out[std::string(k.name)] = machine;
+  }
+  return out;
+}
 
 // Why the listening socket cannot be had, in the operator's words.
 std::string bind_failure(const WebConfig& web) {
@@ -182,7 +208,9 @@ void WebServer::routes() {
   s.Get("/", asset);
   s.Get(R"(/[a-z]+\.(js|css|svg))", asset);
   s.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
-    reply_json(res, 200, call("status", nlohmann::json::object()));
+    nlohmann::json status = call("status", nlohmann::json::object());
+    status["kind_machines"] = kind_machines();
+    reply_json(res, 200, status);
   });
   s.Get("/api/devices", [this](const httplib::Request&, httplib::Response& res) {
     reply_json(res, 200, call("devices", nlohmann::json::object()));

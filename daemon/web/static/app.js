@@ -7,8 +7,10 @@ const PAGE_SIZE = 50;
 const STATES = ['queued', 'converting', 'ready', 'running', 'completed', 'failed', 'canceled', 'interrupted'];
 const ACTIVE = new Set(['queued', 'converting', 'ready', 'running']);   // elapsed still grows
 const COUNTING = new Set(['converting', 'running']);                     // time left shrinks
-const KNITTING_KINDS = new Set(['knit', 'lace']);
-const GCODE_KINDS = new Set(['cut', 'engrave', 'parquetry', 'sketch']);     // run on a grbl device
+// What machine each kind's jobs go to ("knitting", "laser", "files" or "none"), from the
+// daemon's registry of kinds (GET /api/status "kind_machines"): the page names no kind itself.
+const machineOf = (kind) => (app.status && app.status.kind_machines && app.status.kind_machines[kind]) || 'none';
+const knits = (kind) => machineOf(kind) === 'knitting';
 const COLUMNS = { id: 'Job', name: 'Name', kind: 'Kind', state: 'State', progress: 'Progress',
   elapsed: 'Elapsed', left: 'Time left', device: 'Device', reason: 'Reason' };
 
@@ -622,12 +624,14 @@ const scheduleJobReload = () => { clearTimeout(jobReloadTimer); jobReloadTimer =
 const deviceOf = (job) => app.devices.find((d) => d.name === job.device) || null;
 
 // A laser job: its device is a grbl one; without a known device, a grbl device takes its kind;
-// with no device list at all, a G-code kind (so a laser start is never left unconfirmed).
+// with no device list at all, a laser kind; and while the kinds are not known yet, any job (so
+// a laser start is never left unconfirmed).
 function isLaser(job) {
   const d = deviceOf(job);
   if (d) return d.driver === 'grbl';
   const takers = app.devices.filter((x) => Array.isArray(x.kinds) && x.kinds.includes(job.kind));
-  return takers.length ? takers.some((x) => x.driver === 'grbl') : GCODE_KINDS.has(job.kind);
+  if (takers.length) return takers.some((x) => x.driver === 'grbl');
+  return !(app.status && app.status.kind_machines) || machineOf(job.kind) === 'laser';
 }
 
 function renderJob() {
@@ -688,7 +692,7 @@ function jobActions(j) {
     case 'queued': case 'converting': return ['cancel'];
     case 'running': return laser ? ['hold', 'resume', 'cancel'] : ['cancel'];
     case 'failed': case 'canceled': return ['retry'];
-    case 'interrupted': return KNITTING_KINDS.has(j.kind) ? ['resume', 'retry'] : ['retry'];
+    case 'interrupted': return knits(j.kind) ? ['resume', 'retry'] : ['retry'];
     default: return [];
   }
 }
@@ -700,7 +704,7 @@ const ACTION_LABELS = { start: 'Start', frame: 'Frame (beam off)', cancel: 'Canc
 function renderJobActions() {
   const j = app.job.job;
   const actions = jobActions(j);
-  const fromRow = j.state === 'interrupted' && KNITTING_KINDS.has(j.kind);
+  const fromRow = j.state === 'interrupted' && knits(j.kind);
   const key = `${j.id}|${actions}|${canAct()}|${fromRow}`;
   if (app.jobKeys.actions === key) return;
   app.jobKeys.actions = key;
@@ -740,7 +744,7 @@ function confirmFor(action, j) {
   }
   if (action === 'cancel' && j.state === 'running') {
     const how = isLaser(j) ? 'The laser stops at once (feed hold, beam off).'
-      : KNITTING_KINDS.has(j.kind) ? 'The machine stops after the row being knitted.' : '';
+      : knits(j.kind) ? 'The machine stops after the row being knitted.' : '';
     return { title: 'Cancel the running job?', text: `Job ${j.id} "${j.name}" is running${where}. ${how}`.trim(),
       ok: 'Cancel the job', no: 'Keep it running' };
   }
@@ -751,7 +755,7 @@ async function doAction(action) {
   const j = app.job && app.job.job;
   if (!j) return;
   let body;
-  if (action === 'resume' && KNITTING_KINDS.has(j.kind) && j.state === 'interrupted') {
+  if (action === 'resume' && knits(j.kind) && j.state === 'interrupted') {
     const row = parseInt($('#resume-from-row').value, 10);
     if (!(row >= 1)) { setActionMessage('enter the row to resume from (1 or more)', true); return; }
     body = { from_row: row };
