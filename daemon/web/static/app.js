@@ -111,9 +111,11 @@ const badge = (state) => el('span', { class: `badge s-${state}`, text: state });
 function progressEl(p, state) {
   const total = p && p.total > 0 ? p.total : 0;
   const done = total ? Math.min(Math.max(p.done || 0, 0), total) : 0;
+  // A completed job whose machine counts nothing (stitch files written to a folder) is done.
+  const whole = !total && state === 'completed';
   const fill = el('div', { class: 'fill' });
-  fill.style.width = total ? `${(done * 100) / total}%` : '0%';
-  const text = progressText(p);
+  fill.style.width = whole ? '100%' : total ? `${(done * 100) / total}%` : '0%';
+  const text = whole ? 'done' : progressText(p);
   return el('div', { class: `progress s-${state}` },
     el('div', { class: 'bar', role: 'progressbar', 'aria-valuemin': 0, 'aria-valuemax': total || 100,
       'aria-valuenow': done, 'aria-valuetext': text }, fill),

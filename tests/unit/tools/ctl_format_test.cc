@@ -53,6 +53,20 @@ json laser_device(const json& job, const std::string& last, const std::string& d
           {"detail", detail}};
 }
 
+TEST_F(CtlFormatTest, StatusGivesTheWebPagesAddressOrWhyItIsNotThere) {
+  json status = {{"version", "0.1.0"}, {"spool", "/var/spool/atelier"}, {"queue", json::object()},
+                 {"devices", json::array()},
+                 {"web", {{"enabled", true}, {"listen", "127.0.0.1:8631"}, {"listening", true},
+                          {"url", "http://127.0.0.1:8631/"}}}};
+  EXPECT_NE(format_status(status).find("web:     http://127.0.0.1:8631/\n"), std::string::npos) << format_status(status);
+  status["web"] = {{"enabled", true}, {"listen", "127.0.0.1:8631"}, {"listening", false},
+                   {"error", "web: cannot listen on 127.0.0.1:8631: the address is in use"}};
+  EXPECT_NE(format_status(status).find("web:     not listening on 127.0.0.1:8631: web: cannot listen"), std::string::npos)
+      << format_status(status);
+  status["web"] = {{"enabled", false}};
+  EXPECT_EQ(format_status(status).find("web:"), std::string::npos);
+}
+
 TEST_F(CtlFormatTest, DevicesShowLastAndDetailColumns) {
   json running = {{"id", 7},
                   {"name", "box.svg"},
