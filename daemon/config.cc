@@ -128,8 +128,15 @@ WebConfig read_web(const toml::table& t, const std::string& source) {
   } catch (const BadInput& e) {
     r.fail("allow_from", e.what());
   }
+  w.server_names = r.get_string_list("server_names", {});
+  for (const std::string& name : w.server_names)
+    if (name.empty() || name.find_first_of(" /:[]") != std::string::npos)
+      r.fail("server_names", "a host name such as \"workshop.example.org\", without port or scheme");
   w.token = r.get_string("token", "");
   // A short token is guessed; the page's login throttle is no defence for scripts' tokens.
+  // Header values reach the server percent-decoded: a '%' would never match as sent.
+  if (w.token.find_first_of("% \t\r\n") != std::string::npos)
+    r.fail("token", "must not contain '%' or white space (e.g. `openssl rand -hex 24`)");
   if (!w.token.empty() && w.token.size() < 16)
     r.fail("token", "must be at least 16 characters (e.g. `openssl rand -hex 24`), or \"\" for none");
   w.session_hours = static_cast<int>(r.get_int("session_hours", w.session_hours, 1, 24 * 365));

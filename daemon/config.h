@@ -45,6 +45,9 @@ struct WebConfig {
   // Who may connect: CIDR blocks, "localhost" or "any" (daemon/web/address_filter.h).
   // Default: ["localhost"] when `host` is a loopback address, else ["any"].
   std::vector<std::string> allow_from;
+  // Names the page is reached by besides its addresses, "localhost" and the box's own name
+  // (and NAME.local): a request whose Host is none of these is refused (DNS rebinding).
+  std::vector<std::string> server_names;
   std::string token;                      // bearer token for scripts and logins; "" = none
   int session_hours = 12;                 // a page login lasts this long
   std::map<std::string, std::string> users;  // [web.users]: name -> crypt(3) password hash

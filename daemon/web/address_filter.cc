@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 
+#include <cctype>
 #include <charconv>
 #include <cstring>
 #include <optional>
@@ -80,6 +81,24 @@ bool is_loopback_host(const std::string& host) {
 
 std::vector<std::string> default_allow_from(const std::string& host) {
   return {is_loopback_host(host) ? "localhost" : "any"};
+}
+
+bool host_allowed(const std::string& host_header, const std::vector<std::string>& names) {
+  if (host_header.empty()) return true;
+  std::string host = host_header;
+  if (host.front() == '[') {
+    host = host.substr(1, host.find(']') == std::string::npos ? std::string::npos : host.find(']') - 1);
+  } else if (const auto colon = host.rfind(':'); colon != std::string::npos && host.find(':') == colon) {
+    host = host.substr(0, colon);
+  }
+  for (char& c : host) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (!host.empty() && host.back() == '.') host.pop_back();  // "box.local." is "box.local"
+  if (parse_address(host) || host == "localhost") return true;
+  for (std::string name : names) {
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (host == name) return true;
+  }
+  return false;
 }
 
 AddressFilter::AddressFilter(const std::vector<std::string>& entries) {

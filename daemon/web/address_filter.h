@@ -26,6 +26,12 @@ bool is_loopback_host(const std::string& host);
 // address, else ["any"] (a LAN address is meant to be reached from the LAN).
 std::vector<std::string> default_allow_from(const std::string& host);
 
+// Whether a request's Host header names this server: an address (any IP literal), "localhost",
+// or one of `names` (the box's own names and [web] server_names), with or without a port,
+// case-insensitively. A page of another site that made its own name point at this box (DNS
+// rebinding) sends its own name, and is refused. An absent Host (HTTP/1.0) is allowed.
+bool host_allowed(const std::string& host_header, const std::vector<std::string>& names);
+
 class AddressFilter {
  public:
   // Entries: "any", "localhost" (127.0.0.0/8 and ::1), an address ("192.168.1.7", "fe80::1")

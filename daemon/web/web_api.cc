@@ -267,6 +267,7 @@ void WebServer::serve_submit(const httplib::Request& req, httplib::Response& res
         return true;
       },
       [&](const char* data, size_t n) {
+        if (stopped_) return false;  // the daemon is stopping: it does not wait for the upload
         if (field == "file") {
           written += n;
           if (written > max_bytes) return !(too_big = true);

@@ -114,6 +114,10 @@ bool user_password_ok(const WebConfig& config, const std::string& user, const st
   return password_matches(password, it->second);
 }
 
+bool still_allowed(const Session& session, const WebConfig& config) {
+  return session.user == "token" ? !config.token.empty() : config.users.count(session.user) > 0;
+}
+
 Verdict judge_action(const ActionRequest& r, const WebConfig& config, SessionTable& sessions) {
   using O = Verdict::Outcome;
   static const std::string kBearer = "Bearer ";
@@ -124,7 +128,8 @@ Verdict judge_action(const ActionRequest& r, const WebConfig& config, SessionTab
   if (!config.can_act())
     return {O::forbidden, "", "this page is read-only: atelierd.toml has no [web] token and no [web.users]"};
   auto session = sessions.find(cookie_value(r.cookie, kSessionCookie));
-  if (!session) return {O::unauthorised, "", "log in to act (or send Authorization: Bearer TOKEN)"};
+  if (!session || !still_allowed(*session, config))
+    return {O::unauthorised, "", "log in to act (or send Authorization: Bearer TOKEN)"};
   if (is_cross_site(r)) return {O::forbidden, "", "refused: the request comes from another site (Origin " + r.origin + ")"};
   if (r.csrf.empty() || !equal_in_constant_time(r.csrf, session->csrf))
     return {O::forbidden, "", std::string("refused: missing or wrong ") + kCsrfHeader + " header (cross-site request?)"};

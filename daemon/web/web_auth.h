@@ -91,6 +91,11 @@ struct Verdict {
 // cross-site).
 Verdict judge_action(const ActionRequest& request, const WebConfig& config, SessionTable& sessions);
 
+// Whether a session's login still stands under the configuration as now loaded: its user is
+// still in [web.users] (or, for a token login, a token is still set). A SIGHUP that removes a
+// user or the token ends their sessions.
+bool still_allowed(const Session& session, const WebConfig& config);
+
 // Whether a request that comes from a page of another site (Origin not this Host, or
 // Sec-Fetch-Site "cross-site"): logins refuse those too, so no other site can log a browser in.
 bool is_cross_site(const ActionRequest& request);

@@ -3,6 +3,7 @@
 #include "daemon/web/web_server.h"
 
 #include <sys/socket.h>
+#include <unistd.h>
 #include <netinet/in.h>
 
 #include <cerrno>
@@ -76,13 +77,20 @@ WebServer::WebServer(const WebConfig& web, WebBackend backend, Clock& clock)
       throttle_(clock),
       hub_(kMaxEventStreams, kMaxQueuedEvents),
       server_(std::make_unique<httplib::Server>()) {
+  names_ = web.server_names;
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) == 0 && name[0]) {
+    names_.emplace_back(name);
+    names_.emplace_back(std::string(name) + ".local");  // mDNS, as avahi announces the box
+  }
   server_->new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
   server_->set_keep_alive_timeout(5);
   server_->set_read_timeout(5);  // s: a stalled client frees its thread (and a stop) soon
   server_->set_write_timeout(10);
-  // Uploads are capped again by [limits] max_file_bytes as they stream (web_api.cc); this cap
-  // is what no request may exceed at all: the largest file plus the form around it.
-  server_->set_payload_max_length(backend_.config()->limits.max_file_bytes + kMaxJsonBody);
+  // Bodies are capped per request as [limits] is now (a SIGHUP may change it): by the stated
+  // Content-Length before reading (pre-routing, serve_submit) and by counting an upload as it
+  // streams. httplib's own cap is only the last resort.
+  server_->set_payload_max_length(uint64_t{1} << 40);
   routes();
 }
 
@@ -97,7 +105,15 @@ void WebServer::start() {
       throw InternalError("web: cannot listen on " + web_.listen + ": " + bind_failure(web_));
     port_ = web_.port;
   }
-  listener_ = std::thread([this] { server_->listen_after_bind(); });
+  listener_ = std::thread([this] {
+    if (!server_->listen_after_bind()) {
+      std::lock_guard lock(mu_);
+      if (!stopping_) log::error("web: the page stopped listening on " + page_url(web_.host, port_));
+    }
+  });
+  // stop() is a no-op until the listener runs: wait for it, so a stop right after a start
+  // (the daemon failing further on) does not leave the listener running and join() waiting.
+  for (int i = 0; i < 500 && !server_->is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   poller_ = std::thread([this] { poll_devices(); });
   std::string allow;
   for (const auto& a : web_.allow_from) allow += (allow.empty() ? "" : ", ") + a;
@@ -110,6 +126,7 @@ void WebServer::stop() {
     if (stopping_) return;
     stopping_ = true;
   }
+  stopped_ = true;
   cv_.notify_all();
   hub_.close();  // event streams end, so the pool's threads come back
   if (server_) server_->stop();
@@ -171,10 +188,32 @@ void WebServer::routes() {
       json_error(res, 403, "refused: " + req.remote_addr + " is not in [web] allow_from");
       return httplib::Server::HandlerResponse::Handled;
     }
+    if (!host_allowed(req.get_header_value("Host"), names_)) {
+      json_error(res, 403, "refused: this server is not known by that name; add it to [web] server_names");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (req.method != "GET" && req.method != "HEAD" && req.method != "POST") {
+      json_error(res, 405, req.method + " is not served here (GET and POST only)");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    // httplib caps only bodies of a stated length, and counts compressed bytes: a body that is
+    // chunked, unannounced or compressed could grow without bound in memory. Browsers and
+    // curl state the length of forms and uploads and never compress them.
+    const std::string coding = req.get_header_value("Content-Encoding");
+    if (req.has_header("Transfer-Encoding") || (!coding.empty() && coding != "identity") ||
+        (req.method == "POST" && !req.has_header("Content-Length"))) {
+      json_error(res, 411, "send the body uncompressed with a Content-Length");
+      return httplib::Server::HandlerResponse::Handled;
+    }
     // Only an upload may be large; anything else is refused before its body is read.
     if (req.path != "/api/submit" && req.get_header_value<uint64_t>("Content-Length") > kMaxJsonBody) {
       json_error(res, 413, "request body over " + std::to_string(kMaxJsonBody) + " bytes");
-      res.set_header("Connection", "close");  // its body is never read
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    // Several ranges would make httplib build the whole multipart answer in memory (or read a
+    // file once per range); one range is all a browser or download tool asks for.
+    if (req.ranges.size() > 1) {
+      json_error(res, 416, "one byte range at a time");
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
@@ -318,7 +357,7 @@ void WebServer::serve_session(const httplib::Request& req, httplib::Response& re
   const ActionRequest r = action_request(req);
   if (r.authorization.rfind("Bearer ", 0) == 0 && token_ok(web, r.authorization.substr(7))) {
     reply_json(res, 200, session_json(*config, "token", "token", std::nullopt));
-  } else if (auto s = sessions_.find(cookie_value(r.cookie, kSessionCookie)); s && web.can_act()) {
+  } else if (auto s = sessions_.find(cookie_value(r.cookie, kSessionCookie)); s && still_allowed(*s, web)) {
     reply_json(res, 200, session_json(*config, s->user, "session", s->csrf));
   } else {
     reply_json(res, 200, session_json(*config, std::nullopt, nullptr, std::nullopt));
@@ -340,11 +379,24 @@ void WebServer::serve_login(const httplib::Request& req, httplib::Response& res)
     json_error(res, 429, "too many failed logins from " + req.remote_addr + "; wait a minute");
     return;
   }
+  // A password check costs yescrypt's memory and time: a few at once, the rest wait their turn
+  // by asking again.
+  struct Slot {
+    std::atomic<int>& n;
+    ~Slot() { --n; }
+  } slot{password_checks_};
+  if (++password_checks_ > kMaxPasswordChecks) {
+    json_error(res, 503, "too many logins at once; try again in a moment");
+    return;
+  }
   nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
   if (!body.is_object()) {
     json_error(res, 400, "login needs a JSON object: {\"user\", \"password\"} or {\"token\"}");
     return;
   }
+  // Counted as failed before it is checked, so logins sent in parallel cannot slip past the
+  // throttle while the checks run; a success clears the count.
+  throttle_.failed(req.remote_addr);
   std::string user;
   if (body.contains("token") && body["token"].is_string()) {
     if (token_ok(web, body["token"].get<std::string>())) user = "token";
@@ -357,7 +409,6 @@ void WebServer::serve_login(const httplib::Request& req, httplib::Response& res)
     return;
   }
   if (user.empty()) {
-    throttle_.failed(req.remote_addr);
     log::warning("web: failed login from " + req.remote_addr);
     json_error(res, 401, "wrong user name, password or token");
     return;

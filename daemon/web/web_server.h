@@ -60,6 +60,7 @@ class WebServer {
   static constexpr size_t kMaxEventStreams = 32;
   static constexpr size_t kMaxQueuedEvents = 2048;  // per stream; beyond, the stream ends
   static constexpr size_t kMaxJsonBody = 64 * 1024;  // bytes, any request but an upload
+  static constexpr int kMaxPasswordChecks = 4;       // yescrypt checks at once
 
   // `web`: the [web] table as at start (listen and allow_from take effect at restart).
   // `clock` (borrowed) times sessions and the login throttle.
@@ -102,6 +103,7 @@ class WebServer {
   WebBackend backend_;
   Clock& clock_;
   AddressFilter allowed_;
+  std::vector<std::string> names_;  // Host names answered: [web] server_names, the box's own
   SessionTable sessions_;
   LoginThrottle throttle_;
   EventHub hub_;
@@ -112,7 +114,9 @@ class WebServer {
   std::mutex mu_;
   std::condition_variable cv_;
   bool stopping_ = false;
-  bool poll_now_ = false;  // a job changed state: the poller looks at the devices at once
+  bool poll_now_ = false;
+  std::atomic<int> password_checks_{0};  // logins being checked now
+  std::atomic<bool> stopped_{false};     // stop() began: uploads still streaming give up  // a job changed state: the poller looks at the devices at once
   std::string devices_json_ = "[]";  // the last device list published (guarded by mu_)
   nlohmann::json devices_ = nlohmann::json::array();  // the same, parsed
 };

@@ -3,6 +3,7 @@
 // folder, uploads keep to the hot folder's limit, and no browser can hold up the daemon.
 #include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -195,7 +196,7 @@ TEST(WebApi, NoFileOutsideTheJobsOutputFolderIsServed) {
   }
   // A raw request line with the dots unencoded (clients normalise them; browsers too).
   const int fd = connect_tcp(rig.port());
-  const std::string req = "GET " + base + "../../../atelierd.toml HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+  const std::string req = "GET " + base + "../../../atelierd.toml HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
   ASSERT_EQ(::write(fd, req.data(), req.size()), static_cast<ssize_t>(req.size()));
   std::string answer;
   char buf[4096];
@@ -311,7 +312,7 @@ TEST(WebApi, ASlowOrSilentBrowserDoesNotHoldUpTheDaemon) {
   std::vector<int> stalled;
   for (int i = 0; i < 20; ++i) {
     const int fd = connect_tcp(rig.port());
-    const std::string part = i % 2 ? "GET /api/events HTTP/1.1\r\nHost: x\r\n\r\n" : "GET /api/jobs HTTP/1.1\r\nHo";
+    const std::string part = i % 2 ? "GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n" : "GET /api/jobs HTTP/1.1\r\nHo";
     ASSERT_EQ(::write(fd, part.data(), part.size()), static_cast<ssize_t>(part.size()));
     stalled.push_back(fd);
   }
@@ -325,6 +326,71 @@ TEST(WebApi, ASlowOrSilentBrowserDoesNotHoldUpTheDaemon) {
   EXPECT_EQ(r->status, 200);
   for (int fd : stalled) ::close(fd);
   EXPECT_EQ(rig.daemon().stop(), 0);  // and it stops cleanly with streams open
+}
+
+TEST(WebApi, BodiesThatCouldGrowWithoutBoundAreRefusedUnread) {
+  WebRig rig;
+  auto c = rig.client();
+  // Chunked: no length stated, so no cap httplib would keep to.
+  auto r = c->Post("/api/login",
+                   [](size_t offset, httplib::DataSink& sink) {
+                     if (offset > 0) {
+                       sink.done();
+                       return true;
+                     }
+                     return sink.write("{}", 2);
+                   },
+                   "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 411) << r->body;
+  // Compressed: its size in memory is not what it states.
+  r = rig.client()->Post("/api/login", {{"Content-Encoding", "gzip"}}, "xx", "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 411) << r->body;
+  // Many ranges of one file: one answer would hold them all.
+  r = rig.client()->Get("/app.js", {{"Range", "bytes=0-,0-,0-,0-"}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 416);
+  r = rig.client()->Get("/app.js", {{"Range", "bytes=0-9"}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 206);
+  EXPECT_EQ(r->body.size(), 10u);
+  r = rig.client()->Put("/api/jobs/1/cancel", "", "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 405);
+}
+
+TEST(WebApi, ALoginEndsWhenItsUserIsRemovedFromTheConfig) {
+  WebRig rig;
+  auto [cookie, csrf] = rig.login();
+  auto c = rig.client();
+  auto session = body(c->Get("/api/session", {{"Cookie", cookie}}));
+  EXPECT_EQ(session["can_act"], true);
+  // The administrator removes alice and reloads: her open page can no longer act.
+  std::string config = read_file(rig.daemon().config());
+  config = config.substr(0, config.find("[web.users]")) + config.substr(config.find("[knit]"));
+  write_file(rig.daemon().config(), config);
+  ::kill(rig.daemon().pid(), SIGHUP);
+  EXPECT_TRUE(rig.daemon().wait_for([&] {
+    return body(rig.client()->Get("/api/session", {{"Cookie", cookie}}))["can_act"] == false;
+  }, 10s)) << rig.daemon().log();
+  auto r = rig.client()->Post("/api/jobs/1/cancel", {{"Cookie", cookie}, {"X-Atelier-CSRF", csrf}}, "",
+                              "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 401);
+}
+
+TEST(WebApi, AnotherSitesNameForTheBoxIsRefused) {
+  WebRig rig;
+  auto c = rig.client();
+  // DNS rebinding: evil.example made to resolve to this box; the browser sends its own name.
+  auto r = c->Get("/api/jobs", {{"Host", "evil.example:" + std::to_string(rig.port())}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 403);
+  EXPECT_NE(r->body.find("server_names"), std::string::npos);
+  r = c->Get("/api/jobs", {{"Host", "localhost:" + std::to_string(rig.port())}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
 }
 
 TEST(WebApi, AddressesOutsideAllowFromAreRefused) {

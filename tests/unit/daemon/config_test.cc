@@ -352,4 +352,6 @@ TEST(Config, WebRefusesBadValuesNamingTheKey) {
   EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web.users]\nbob = \"hunter2\"\n").find("web.users.bob"),
             std::string::npos);
   EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web]\nenable = true\n").find("enable"), std::string::npos);
+  EXPECT_NE(error_of("[spool]\ndir = \"/s\"\n[web]\nserver_names = [\"http://box:80\"]\n").find("web.server_names"),
+            std::string::npos);
 }

@@ -73,6 +73,16 @@ TEST(AddressFilter, RefusesBadEntriesNamingThem) {
   }
 }
 
+TEST(HostAllowed, AddressesLocalhostAndTheBoxsNamesOnly) {
+  const std::vector<std::string> names = {"workshop", "workshop.local", "atelier.example.org"};
+  for (const char* ok : {"127.0.0.1:8631", "192.168.1.20:8631", "[::1]:8631", "localhost:8631", "localhost",
+                         "Workshop.LOCAL:8631", "atelier.example.org", "atelier.example.org.:80", ""})
+    EXPECT_TRUE(host_allowed(ok, names)) << ok;
+  for (const char* bad : {"evil.example:8631", "workshop.evil.example", "127.0.0.1.evil.example:8631",
+                          "localhost.evil.example", "example.org"})
+    EXPECT_FALSE(host_allowed(bad, names)) << bad;
+}
+
 TEST(AddressFilter, DefaultIsLocalhostOnLoopbackAndAnyOtherwise) {
   EXPECT_EQ(default_allow_from("127.0.0.1"), std::vector<std::string>{"localhost"});
   EXPECT_EQ(default_allow_from("::1"), std::vector<std::string>{"localhost"});
