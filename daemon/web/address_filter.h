@@ -22,6 +22,9 @@ ListenAddress parse_listen_address(const std::string& text);
 // 127.0.0.0/8 or ::1.
 bool is_loopback_host(const std::string& host);
 
+// Whether `host` (numeric, as ListenAddress::host) is an IPv6 address: "::", "::1", "fd00::7".
+inline bool is_ipv6_host(const std::string& host) { return host.find(':') != std::string::npos; }
+
 // What `allow_from` is when the configuration does not say: ["localhost"] for a loopback
 // address, else ["any"] (a LAN address is meant to be reached from the LAN).
 std::vector<std::string> default_allow_from(const std::string& host);

@@ -36,8 +36,8 @@ std::optional<int64_t> int_param(const httplib::Request& req, const char* name, 
   return std::stoll(v);
 }
 
-// A control error as an HTTP status: an unknown job is 404, anything else the state of the job
-// or the machine does not allow (409), unless the request itself was wrong (`bad` = 400).
+// A control error as an HTTP status: an unknown job is 404, anything else `otherwise` (409 for
+// an action the job's or the machine's state does not allow, 400 for a request that is wrong).
 int status_of(const ControlError& e, int otherwise) {
   return std::string(e.what()).rfind("no job ", 0) == 0 ? 404 : otherwise;
 }
@@ -221,8 +221,9 @@ void WebServer::serve_action(const httplib::Request& req, httplib::Response& res
 
 void WebServer::serve_submit(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
   std::string user;
-  // Refused before the body is read; the connection closes, so the rest of the body is not
-  // taken for a next request.
+  // Refused before the body is read. "Connection: close" asks the client to close its end:
+  // httplib 0.11 itself would read the unread rest of the body as further requests (which
+  // carry no credentials, so they are refused too).
   if (!allowed_to_act(req, res, user) || !req.is_multipart_form_data()) {
     if (res.status < 400) json_error(res, 400, "submit takes multipart/form-data: fields kind, file and any number of set");
     res.set_header("Connection", "close");
@@ -233,7 +234,7 @@ void WebServer::serve_submit(const httplib::Request& req, httplib::Response& res
   auto refuse_too_big = [&](const std::string& what) {
     json_error(res, 413, what + ": larger than the hot folder's limit of " + std::to_string(max_bytes) +
                              " bytes ([limits] max_file_bytes)");
-    res.set_header("Connection", "close");  // the rest of the body is never read
+    res.set_header("Connection", "close");  // the rest of the body is never read (see above)
   };
   // Announced larger than any file it may carry: refused before a byte is stored.
   if (req.get_header_value<uint64_t>("Content-Length") > max_bytes + kMaxJsonBody) {
@@ -279,8 +280,7 @@ void WebServer::serve_submit(const httplib::Request& req, httplib::Response& res
         return true;
       });
   end_field();
-  // httplib says 413 when the body outgrew its own cap (set from the limit at start).
-  if (too_big || res.status == 413) {
+  if (too_big) {
     refuse_too_big(filename.empty() ? std::string("the upload") : upload_name(filename));
     return;
   }

@@ -52,7 +52,7 @@ nlohmann::json kind_machines() {
 
 // Why the listening socket cannot be had, in the operator's words.
 std::string bind_failure(const WebConfig& web) {
-  const int family = web.host.find(':') != std::string::npos ? AF_INET6 : AF_INET;
+  const int family = is_ipv6_host(web.host) ? AF_INET6 : AF_INET;
   UniqueFd probe(::socket(family, SOCK_STREAM | SOCK_CLOEXEC, 0));
   if (!probe.valid() && (errno == EAFNOSUPPORT || errno == EPERM || errno == EACCES))
     return std::string("this process may not open ") + (family == AF_INET6 ? "IPv6" : "IPv4") +
@@ -64,8 +64,7 @@ std::string bind_failure(const WebConfig& web) {
 }  // namespace
 
 std::string page_url(const std::string& host, int port) {
-  const bool v6 = host.find(':') != std::string::npos;
-  return "http://" + (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port) + "/";
+  return "http://" + (is_ipv6_host(host) ? "[" + host + "]" : host) + ":" + std::to_string(port) + "/";
 }
 
 WebServer::WebServer(const WebConfig& web, WebBackend backend, Clock& clock)
@@ -97,18 +96,12 @@ WebServer::WebServer(const WebConfig& web, WebBackend backend, Clock& clock)
 WebServer::~WebServer() { stop(); }
 
 void WebServer::start() {
-  if (web_.port == 0) {
-    port_ = server_->bind_to_any_port(web_.host);
-    if (port_ <= 0) throw InternalError("web: cannot listen on " + web_.host + ": " + bind_failure(web_));
-  } else {
-    if (!server_->bind_to_port(web_.host, web_.port))
-      throw InternalError("web: cannot listen on " + web_.listen + ": " + bind_failure(web_));
-    port_ = web_.port;
-  }
+  if (!server_->bind_to_port(web_.host, web_.port))
+    throw InternalError("web: cannot listen on " + web_.listen + ": " + bind_failure(web_));
   listener_ = std::thread([this] {
     if (!server_->listen_after_bind()) {
       std::lock_guard lock(mu_);
-      if (!stopping_) log::error("web: the page stopped listening on " + page_url(web_.host, port_));
+      if (!stopping_) log::error("web: the page stopped listening on " + page_url(web_.host, web_.port));
     }
   });
   // stop() is a no-op until the listener runs: wait for it, so a stop right after a start
@@ -117,7 +110,7 @@ void WebServer::start() {
   poller_ = std::thread([this] { poll_devices(); });
   std::string allow;
   for (const auto& a : web_.allow_from) allow += (allow.empty() ? "" : ", ") + a;
-  log::info("web page on " + page_url(web_.host, port_) + " (allow_from " + allow + ")");
+  log::info("web page on " + page_url(web_.host, web_.port) + " (allow_from " + allow + ")");
 }
 
 void WebServer::stop() {

@@ -71,8 +71,8 @@ class WebServer {
   // and the cause (in use, not allowed by the systemd unit's address families, ...).
   void start();
   void stop();
-  // The port bound (the configured one; tests may configure 0 for any free port).
-  int port() const { return port_; }
+  // The port listened on ([web] listen's).
+  int port() const { return web_.port; }
 
   // A job event as `watch` sends it ({"at", "job", "from", "to", "reason", "progress"?}).
   void publish_job(const nlohmann::json& event);
@@ -108,7 +108,6 @@ class WebServer {
   LoginThrottle throttle_;
   EventHub hub_;
   std::unique_ptr<httplib::Server> server_;
-  int port_ = 0;
   std::thread listener_;
   std::thread poller_;
   std::mutex mu_;

@@ -38,6 +38,9 @@ struct CommandResult {
   std::string out;
   std::string err;
 };
+// A TCP port on 127.0.0.1 that was free a moment ago (bound to 0, read back, closed).
+int free_tcp_port();
+
 // Runs a program with arguments (no shell) and collects its output.
 CommandResult run_command(const std::vector<std::string>& argv);
 

@@ -14,9 +14,6 @@
 
 namespace atelier::test {
 
-// A TCP port on 127.0.0.1 that was free a moment ago (bound to 0, read back, closed).
-int free_tcp_port();
-
 struct WebRigOptions {
   bool knitter = false;       // a KH930 emulator as device "knitter" for knit jobs
   int row_ms = 3;             // the emulator's time per row

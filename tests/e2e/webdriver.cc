@@ -1,9 +1,9 @@
 #include "tests/e2e/webdriver.h"
 
-#include <arpa/inet.h>
+#include "tests/e2e/daemon_harness.h"
+
 #include <fcntl.h>
 #include <httplib.h>
-#include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -28,31 +28,6 @@ constexpr const char* kDriver = "/usr/bin/chromedriver";
 constexpr const char* kChromium = "/usr/bin/chromium";
 constexpr const char* kElementKey = "element-6066-11e4-a52e-4f735466cecf";
 constexpr auto kPoll = std::chrono::milliseconds(50);
-
-int free_loopback_port() {
-  int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) throw std::runtime_error(std::string("webdriver: socket: ") + strerror(errno));
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = 0;
-  socklen_t len = sizeof addr;
-  if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
-      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0) {
-    int err = errno;
-    close(fd);
-    throw std::runtime_error(std::string("webdriver: no free loopback port: ") + strerror(err));
-  }
-  close(fd);
-  return ntohs(addr.sin_port);
-}
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
 
 std::vector<unsigned char> base64_decode(const std::string& text) {
   auto sextet = [](char c) -> int {
@@ -107,7 +82,7 @@ Browser::Browser(int width, int height) {
       throw std::runtime_error(std::string("webdriver: mkdtemp: ") + strerror(errno));
     dir_ = tmpl;
 
-    port_ = free_loopback_port();
+    port_ = free_tcp_port();
     start_driver();
     http_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
     http_->set_connection_timeout(5);
@@ -337,7 +312,7 @@ void Browser::shutdown() noexcept {
 }
 
 std::string Browser::driver_log() const {
-  return dir_.empty() ? std::string() : slurp(dir_ / "chromedriver.log");
+  return dir_.empty() ? std::string() : read_file(dir_ / "chromedriver.log");
 }
 
 json Browser::call(const std::string& command, const char* method, const std::string& path,
