@@ -331,18 +331,22 @@ TEST(WebApi, ASlowOrSilentBrowserDoesNotHoldUpTheDaemon) {
 TEST(WebApi, BodiesThatCouldGrowWithoutBoundAreRefusedUnread) {
   WebRig rig;
   auto c = rig.client();
-  // Chunked: no length stated, so no cap httplib would keep to.
-  auto r = c->Post("/api/login",
-                   [](size_t offset, httplib::DataSink& sink) {
-                     if (offset > 0) {
-                       sink.done();
-                       return true;
-                     }
-                     return sink.write("{}", 2);
-                   },
-                   "application/json");
+  // Chunked: no length stated, so no cap httplib would keep to. Sent by hand: the answer comes
+  // before the body is read, and a client library would write on into a closed connection.
+  const int fd = connect_tcp(rig.port());
+  timeval tv{10, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  const std::string head = "POST /api/login HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                           "Transfer-Encoding: chunked\r\n\r\n2\r\n{}\r\n";
+  ASSERT_EQ(::send(fd, head.data(), head.size(), MSG_NOSIGNAL), static_cast<ssize_t>(head.size()));
+  char buf[512] = {};
+  const ssize_t n = ::recv(fd, buf, sizeof buf - 1, 0);
+  ::close(fd);
+  ASSERT_GT(n, 0);
+  EXPECT_EQ(std::string(buf).rfind("HTTP/1.1 411", 0), 0u) << buf;
+  auto r = rig.client()->Get("/api/status");
   ASSERT_TRUE(r);
-  EXPECT_EQ(r->status, 411) << r->body;
+  EXPECT_EQ(r->status, 200);  // and the server goes on
   // Compressed: its size in memory is not what it states.
   r = rig.client()->Post("/api/login", {{"Content-Encoding", "gzip"}}, "xx", "application/json");
   ASSERT_TRUE(r);

@@ -1,5 +1,7 @@
 #include "tests/e2e/web_rig.h"
 
+#include <signal.h>
+
 #include <stdexcept>
 #include <thread>
 
@@ -32,6 +34,9 @@ void preload(const fs::path& store_path, int count) {
 }  // namespace
 
 WebRig::WebRig(WebRigOptions options) {
+  // A client still sending a body the server has already refused (401, 411, 413) gets EPIPE
+  // from httplib, not a SIGPIPE that would end the whole test binary.
+  ::signal(SIGPIPE, SIG_IGN);
   if (options.knitter) knitter_.emplace(options.row_ms);
   port_ = free_tcp_port();
   daemon_ = std::make_unique<DaemonProcess>(dir_.path());
